@@ -1,9 +1,8 @@
 """Numeric evaluation of real-form terms, in float64 or at any mpmath precision.
 
-Exact term data (α, β, a, b, possibly built on ``CRootOf``) are first converted to
-mpmath numbers at a working precision well above the target: algebraic roots come
-from python-flint's certified complex root enclosures, matched to SymPy's isolating
-rectangles, instead of SymPy's much slower ``CRootOf.evalf``. Hyperbolic pairs
+Exact term data (α, β, a, b, possibly built on algebraic roots, whose values come
+from flint: see :mod:`laplace_springs.algebraic`) are first converted to mpmath
+numbers at a working precision well above the target. Hyperbolic pairs
 e^{αt}(a cosh σt + b sinh σt) are split into two real exponentials whose rates α ± σ
 are formed at that working precision, so widely separated real roots keep full
 relative accuracy in float64.
@@ -12,63 +11,24 @@ relative accuracy in float64.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from fractions import Fraction
-from functools import lru_cache
 from typing import Sequence
 
-import flint
 import mpmath
 import numpy as np
 import sympy as sp
 
+from .algebraic import AlgebraicRoot
 from .real_terms import Term
 
 __all__ = ["NumericTerms", "numeric_terms", "evaluate_float", "evaluate_mp"]
 
 
-@lru_cache(maxsize=256)
-def _flint_roots(coeffs: tuple[sp.Rational, ...], dps: int) -> tuple[tuple[str, str], ...]:
-    """Roots of a rational polynomial (ascending coefficients) as decimal strings."""
-    poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in coeffs])
-    with flint.ctx.workdps(dps):
-        roots = [r for r, _ in poly.complex_roots()]
-        return tuple((r.real.mid().str(dps, radius=False), r.imag.mid().str(dps, radius=False))
-                     for r in roots)
-
-
-def _mpf(value) -> mpmath.mpf:
-    """An exact rational bound (SymPy or flint ground type) as an mpf."""
-    fraction = Fraction(str(value))
-    return mpmath.mpf(fraction.numerator) / fraction.denominator
-
-
-def _contains(interval, re: mpmath.mpf, im: mpmath.mpf) -> bool:
-    """Is re + i·im inside a CRootOf isolating interval or rectangle?"""
-    if hasattr(interval, "ax"):
-        return (_mpf(interval.ax) <= re <= _mpf(interval.bx)
-                and _mpf(interval.ay) <= im <= _mpf(interval.by))
-    return _mpf(interval.a) <= re <= _mpf(interval.b) and not im
-
-
-def _root_value(root: sp.CRootOf, dps: int) -> sp.Expr:
-    """Value of a CRootOf at ``dps`` digits, from flint's enclosures."""
-    coeffs = tuple(reversed([sp.Rational(c) for c in root.poly.all_coeffs()]))
-    interval = root._get_interval()
-    with mpmath.workdps(dps):
-        candidates = [(mpmath.mpf(re), mpmath.mpf(im)) for re, im in _flint_roots(coeffs, dps)]
-        inside = [c for c in candidates if _contains(interval, *c)]
-        if len(inside) != 1:  # enclosure on an edge: fall back on SymPy's own refinement
-            return root.evalf(dps)
-        re, im = inside[0]
-        return sp.Float(re, dps) + sp.I * sp.Float(im, dps) if im else sp.Float(re, dps)
-
-
 def _mp_value(expr: sp.Expr, dps: int) -> mpmath.mpf:
     """An exact real expression as an mpmath number at ``dps`` digits."""
     expr = sp.sympify(expr)
-    roots = expr.atoms(sp.CRootOf)
-    if roots:
-        expr = expr.xreplace({r: _root_value(r, dps + 10) for r in roots})
+    roots = expr.atoms(AlgebraicRoot)
+    if roots:  # each root once, not once per occurrence inside re() and im()
+        expr = expr.xreplace({r: r.numeric(dps + 10) for r in roots})
     value = sp.N(expr, dps)
     if value.is_real is False:
         value = sp.re(value)

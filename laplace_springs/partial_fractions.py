@@ -100,6 +100,8 @@ def _field_polys(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
     if not isinstance(s, sp.Symbol):
         raise InversionError(f"the transform variable must be a Symbol, got {s!r}")
     F = sp.sympify(F)
+    if F.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        raise InversionError(f"the transform is not finite: {F} (a zero denominator?)")
     if F.has(sp.Float):
         F = F.xreplace({f: sp.Rational(str(f)) for f in F.atoms(sp.Float)})
     numerator, denominator = sp.fraction(sp.cancel(sp.together(F)))

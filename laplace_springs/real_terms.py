@@ -17,6 +17,7 @@ from typing import Literal
 
 import sympy as sp
 
+from .algebraic import AlgebraicRoot
 from .errors import InversionError
 from .partial_fractions import PoleGroup, residue_scale
 
@@ -112,10 +113,10 @@ def _upper_roots(q: sp.Poly) -> tuple[list[sp.CRootOf], list[sp.CRootOf]]:
     """Real roots and the upper-half-plane member of each conjugate pair, as CRootOf."""
     expr = q.as_expr()
     real_count = q.count_roots()
-    real = [sp.CRootOf(expr, i) for i in range(real_count)]
+    real = [AlgebraicRoot(expr, i) for i in range(real_count)]
     upper = []
     for i in range(real_count, q.degree()):
-        root = sp.CRootOf(expr, i)
+        root = AlgebraicRoot(expr, i)
         if root._get_interval().ay > 0:
             upper.append(root)
     return real, upper
