@@ -32,7 +32,8 @@ def _mp_value(expr: sp.Expr, dps: int) -> mpmath.mpf:
     value = sp.N(expr, dps)
     if value.is_real is False:
         value = sp.re(value)
-    return mpmath.mpf(sp.Float(value, dps)._mpf_)
+    with mpmath.workdps(dps):
+        return mpmath.mpf(sp.Float(value, dps)._mpf_)
 
 
 @dataclass(frozen=True)

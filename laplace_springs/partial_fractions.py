@@ -233,7 +233,7 @@ def partial_fractions(F: sp.Expr, s: sp.Symbol) -> PartialFractions:
     >>> s = sp.Symbol("s")
     >>> pf = partial_fractions(1 / ((s + 1) ** 2 * (s**2 + 1)), s)
     >>> [(g.factor.as_expr(), g.multiplicity, [h.as_expr() for h in g.residues]) for g in pf.groups]
-    [(s + 1, 2, [1/2, 1/2]), (s**2 + 1, 1, [-s/4])]
+    [(s + 1, 2, [1/2, 1/2]), (s**2 + 1, 1, [-1/4])]
     >>> sp.simplify(pf.as_expr() - 1 / ((s + 1) ** 2 * (s**2 + 1)))
     0
     """

@@ -136,7 +136,7 @@ def resolvent(scene: Scene) -> Resolvent:
     >>> R.integer_characteristic_polynomial.as_expr()
     25*lambda**4 + 10*lambda**3 + 126*lambda**2 + 25*lambda + 100
     >>> R.normalized()[0, 0]
-    (5*lambda**2 + lambda + 10)/(5*lambda**4 + 2*lambda**3 + 126*lambda**2/5 + 5*lambda + 20)
+    (25*lambda**2 + 5*lambda + 50)/(25*lambda**4 + 10*lambda**3 + 126*lambda**2 + 25*lambda + 100)
     """
     P = lam**2 * scene.M + lam * scene.C + scene.K
     adjugate, det = _adjugate_and_determinant(sp.Matrix(P))

@@ -15,7 +15,8 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from .evaluate import NumericTerms, evaluate_float, evaluate_mp, numeric_terms
+from .evaluate import NumericTerms, _mp_value, evaluate_float, evaluate_mp, numeric_terms
+from .numbers import TIME
 from .partial_fractions import decompose
 from .real_terms import Term, group_terms, terms_expr
 from .resolvent import Resolvent, lam, resolvent
@@ -26,7 +27,7 @@ if TYPE_CHECKING:
 __all__ = ["t", "Solution", "Verification", "solve"]
 
 #: Time, the variable of every solution (the results hold for t ≥ 0).
-t = sp.Symbol("t", nonnegative=True)
+t = TIME
 
 _METHODS = ("auto", "exact")
 
@@ -165,16 +166,11 @@ class Solution:
         x = sp.Matrix(self.x)
         v = x.diff(t)
         residual = s.M * v.diff(t) + s.C * v + s.K * x
-        scale = max(1.0, *(abs(float(_mp(e, 20))) for e in [*s.x0, *s.v0] if e.is_number))
-        ode = max(abs(_mp(e.subs(t, sp.Rational(tv)), dps)) for e in residual for tv in samples)
+        scale = max(1.0, *(abs(float(_mp_value(e, 20))) for e in [*s.x0, *s.v0] if e.is_number))
+        ode = max(abs(_mp_value(e.subs(t, sp.Rational(tv)), dps)) for e in residual for tv in samples)
         start = [x.subs(t, 0) - s.x0, v.subs(t, 0) - s.v0]
-        init = max(abs(_mp(e, dps)) for vec in start for e in vec)
+        init = max(abs(_mp_value(e, dps)) for vec in start for e in vec)
         return Verification(float(ode) / scale, float(init) / scale, 10.0 ** (10 - dps))
-
-
-def _mp(expr: sp.Expr, dps: int):
-    from .evaluate import _mp_value
-    return _mp_value(expr, dps)
 
 
 def _latex_name(name: str) -> str:

@@ -42,11 +42,18 @@ def reference_motion(scene, times, dps: int = 40) -> np.ndarray:
         return out
 
 
+def _to_mpf(value) -> mpmath.mpf:
+    if isinstance(value, sp.Basic):
+        return mpmath.mpf(sp.Float(value, 60)._mpf_)
+    return mpmath.mpf(value)
+
+
 def relative_error(values, reference) -> float:
-    """max |values - reference| / max |reference|, computed in mpmath."""
-    diff = max(abs(mpmath.mpf(v) - r) for v, r in zip(np.ravel(values), np.ravel(reference)))
-    scale = max(abs(r) for r in np.ravel(reference))
-    return float(diff / scale)
+    """max |values - reference| / max |reference|, computed with 60-digit mpmath."""
+    with mpmath.workdps(60):
+        diff = max(abs(_to_mpf(v) - r) for v, r in zip(np.ravel(values), np.ravel(reference)))
+        scale = max(abs(r) for r in np.ravel(reference))
+        return float(diff / scale)
 
 
 @pytest.fixture

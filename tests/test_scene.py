@@ -1,0 +1,372 @@
+"""Tests of Scene and its builders.
+
+Expected matrices come from outside the code under test: the seed page's printed
+A = [[3, -1], [-2, 2]] (Example 1) and its symbolic A, B (Examples 1, 4), the
+equations of motion written out by hand, and the public acceptance scenes
+(shared/acceptance/scenes.py), copied here as the decimal strings given there.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import sympy
+
+from laplace_springs.errors import SceneError
+from laplace_springs.scene import SUPPORTS, Component, Scene
+
+R = sympy.Rational
+
+
+def exact(rows):
+    """A matrix from decimal strings, converted independently of the code under test."""
+    return sympy.Matrix([[R(Fraction(entry)) for entry in row] for row in rows])
+
+
+# Acceptance scenes (shared/acceptance/scenes.py), as printed there.
+SEED2 = {"M": [["1", "0"], ["0", "1/2"]], "C": [["0.2", "0"], ["0", "0.1"]], "K": [["3", "-1"], ["-1", "1"]]}
+SEED3 = {"M": [["1", "0"], ["0", "2/3"]], "K": [["0.38", "-0.08"], ["-0.08", "0.28"]]}
+SEED5 = {
+    "M": [["1", "0"], ["0", "0.8"]],
+    "C": [["1.9", "-1.4"], ["-1.4", "2.3"]],
+    "K": [["779", "-379"], ["-379", "479"]],
+}
+
+
+def example1(**overrides):
+    arguments = dict(
+        masses={"m1": 1, "m2": "1/2"},
+        springs={"k1": ("ceiling", "m1", 2), "k2": ("m1", "m2", 1)},
+        x0=[1, 0],
+        v0=[0, 1],
+        layout="vertical",
+    )
+    arguments.update(overrides)
+    return Scene.from_components(**arguments)
+
+
+# --- the seed's examples -----------------------------------------------------------
+
+
+def test_example1_reproduces_the_seeds_A():
+    A, B = example1().normalized()
+    assert A == sympy.Matrix([[3, -1], [-2, 2]])  # seed (1.1), numbers as printed
+    assert B == sympy.zeros(2, 2)
+
+
+def test_example1_symbolic_A_has_minus_k2_over_m2():
+    k1, k2, m1, m2 = sympy.symbols("k1 k2 m1 m2", positive=True)
+    scene = Scene.from_components(
+        masses={"m1": "m1", "m2": "m2"},
+        springs={"k1": ("ceiling", "m1", "k1"), "k2": ("m1", "m2", "k2")},
+    )
+    A, _ = scene.normalized()
+    # seed (1.1) with its misprint corrected: the (2,1) entry is -k2/m2.
+    expected = sympy.Matrix([[(k1 + k2) / m1, -k2 / m1], [-k2 / m2, k2 / m2]])
+    assert (A - expected).applyfunc(sympy.simplify) == sympy.zeros(2, 2)
+
+
+def test_example2_matches_acceptance_matrices():
+    scene = example1(dashpots={"delta1": ("air", "m1", 0.2), "delta2": ("air", "m2", 0.1)}, v0=[0, 0])
+    for name in ("M", "C", "K"):
+        assert getattr(scene, name) == exact(SEED2[name]), name
+    A, B = scene.normalized()
+    assert B == sympy.eye(2) / 5  # the seed's B = 0.2 I
+    assert A == sympy.Matrix([[3, -1], [-2, 2]])
+
+
+def test_example3_matches_acceptance_and_hand_written_physics():
+    scene = Scene.from_components(
+        masses={"m1": 1, "m2": "2/3"},
+        springs={"k1": ("wall", "m1", 0.3), "k2": ("m1", "m2", 0.08), "k3": ("m2", "wall", 0.2)},
+        x0=[-0.08, 0.4],
+        v0=[0.15, -0.3],
+    )
+    assert scene.M == exact(SEED3["M"])
+    assert scene.K == exact(SEED3["K"])
+    assert not scene.is_damped
+    assert scene.x0 == exact([["-0.08"], ["0.4"]])
+    assert scene.v0 == exact([["0.15"], ["-0.3"]])
+
+
+def test_example3_symbolic_couples_through_k2():
+    k1, k2, k3 = sympy.symbols("k1 k2 k3", positive=True)
+    scene = Scene.from_components(
+        masses={"m1": "m1", "m2": "m2"},
+        springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2"), "k3": ("m2", "wall", "k3")},
+    )
+    # m1 x1'' + (k1 + k2) x1 - k2 x2 = 0, m2 x2'' + (k2 + k3) x2 - k2 x1 = 0
+    assert scene.K == sympy.Matrix([[k1 + k2, -k2], [-k2, k2 + k3]])
+
+
+def test_example4_matches_the_seeds_A_and_B():
+    k1, k3, b, delta, m1, m2 = sympy.symbols("k1 k3 b delta m1 m2", positive=True)
+    scene = Scene.from_components(
+        masses=[("m1", "m1"), ("m2", "m2")],
+        springs=[("k1", "wall", "m1", "k1"), ("k3", "m2", "wall", "k3")],
+        dashpots=[
+            ("b", "m1", "m2", "b"),
+            ("delta1", "ground", "m1", "delta"),
+            ("delta2", "ground", "m2", "delta"),
+        ],
+    )
+    A, B = scene.normalized()
+    assert A == sympy.Matrix([[k1 / m1, 0], [0, k3 / m2]])
+    expected_B = sympy.Matrix([[(delta + b) / m1, -b / m1], [-b / m2, (delta + b) / m2]])
+    assert (B - expected_B).applyfunc(sympy.simplify) == sympy.zeros(2, 2)
+
+
+def test_example5_matches_acceptance_matrices():
+    scene = Scene.from_components(
+        masses={"m1": 1, "m2": 0.8},
+        springs={"k1": ("wall", "m1", 400), "k2": ("m1", "m2", 379), "k3": ("m2", "wall", 100)},
+        dashpots={"mu1": ("wall", "m1", 0.5), "mu2": ("m1", "m2", 1.4), "mu3": ("m2", "wall", 0.9)},
+        x0=[0.05, 0.07],
+        v0=[3, 2],
+    )
+    for name in ("M", "C", "K"):
+        assert getattr(scene, name) == exact(SEED5[name]), name
+    assert [component.label for component in scene.components] == ["k1", "k2", "k3", "mu1", "mu2", "mu3"]
+
+
+# --- from_matrices -----------------------------------------------------------------
+
+
+def test_from_matrices_accepts_the_acceptance_strings():
+    scene = Scene.from_matrices(**SEED2, x0=["1", "0"], v0=["0", "0"])
+    assert scene.C == sympy.Matrix([[R(1, 5), 0], [0, R(1, 10)]])
+    assert scene.names == ("x1", "x2")
+    assert scene.components == () and scene.mass_names == ()
+    assert all(isinstance(m, sympy.ImmutableMatrix) for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0))
+
+
+@pytest.mark.parametrize(
+    "convert",
+    [
+        lambda rows: rows,
+        lambda rows: tuple(tuple(row) for row in rows),
+        lambda rows: np.array(rows, dtype=float),
+        lambda rows: sympy.Matrix(rows),
+        lambda rows: sympy.ImmutableMatrix(rows),
+    ],
+)
+def test_from_matrices_accepts_many_matrix_types(convert):
+    scene = Scene.from_matrices(
+        M=convert([[1, 0], [0, 0.5]]), K=convert([[3, -1], [-1, 1]]), x0=[1, 0], v0=[0, 1]
+    )
+    assert scene.M == sympy.diag(1, R(1, 2))
+    assert scene.K == sympy.Matrix([[3, -1], [-1, 1]])
+
+
+@pytest.mark.parametrize(
+    "vector",
+    [[1, 0.5], (1, 0.5), [[1], [0.5]], [[1, 0.5]], np.array([1, 0.5]), np.array([[1], [0.5]]),
+     sympy.Matrix([1, 0.5]), sympy.Matrix([[1, 0.5]])],
+)
+def test_vectors_flat_column_or_row(vector):
+    scene = Scene.from_matrices(M=[[1, 0], [0, 1]], x0=vector, v0=vector)
+    assert scene.x0 == sympy.Matrix([1, R(1, 2)])
+    assert scene.x0.shape == (2, 1)
+
+
+def test_symbol_assumptions_parameters_positive_initial_real():
+    scene = Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["d"], v0=["v"])
+    symbols = {symbol.name: symbol for symbol in scene.free_symbols}
+    assert set(symbols) == {"m", "c", "k", "d", "v"}
+    assert all(symbols[name].is_positive for name in "mck")
+    assert symbols["d"].is_real and symbols["d"].is_positive is None
+
+
+def test_from_normalized_keeps_a_non_symmetric_A():
+    scene = Scene.from_normalized(A=[[3, -1], [-2, 2]], B=[[0.2, 0], [0, 0.2]], x0=[1, 0], v0=[0, 0])
+    assert scene.M == sympy.eye(2)
+    assert scene.K == sympy.Matrix([[3, -1], [-2, 2]])
+    assert scene.C == sympy.eye(2) / 5
+    A, B = scene.normalized()
+    assert A == scene.K and B == scene.C
+
+
+def test_normalized_with_a_full_mass_matrix():
+    M = sympy.Matrix([[2, 1], [1, 2]])
+    K = sympy.Matrix([[3, -1], [-1, 1]])
+    scene = Scene.from_matrices(M=M, K=K, x0=[0, 0], v0=[0, 0])
+    A, B = scene.normalized()
+    assert M * A == K
+    assert B == sympy.zeros(2, 2)
+
+
+def test_properties_and_repr():
+    scene = example1(title="Example 1")
+    assert scene.n == 2
+    assert not scene.is_damped
+    assert scene.free_symbols == frozenset()
+    assert repr(scene) == "<Scene 'Example 1': 2 coordinates, undamped>"
+    damped = Scene.from_matrices(M=[[1]], C=[["c"]], x0=[1], v0=[0])
+    assert damped.is_damped
+    assert repr(damped) == "<Scene 1 coordinate, damped>"
+
+
+def test_with_initial_returns_a_new_scene_and_keeps_the_rest():
+    scene = example1(title="pair")
+    assert scene.with_initial(x0={"m2": 0.5}).x0 == scene.with_initial(x0=[0, 0.5]).x0
+    changed = scene.with_initial(x0=[0, 0.5])
+    assert changed is not scene
+    assert changed.x0 == sympy.Matrix([0, R(1, 2)])
+    assert changed.v0 == scene.v0
+    assert scene.x0 == sympy.Matrix([1, 0])
+    for field in ("M", "C", "K", "names", "title", "layout", "components", "mass_names"):
+        assert getattr(changed, field) == getattr(scene, field)
+    with pytest.raises(SceneError, match="v0 has 3 entries, expected 2"):
+        scene.with_initial(v0=[1, 2, 3])
+
+
+def test_scene_is_frozen():
+    scene = example1()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        scene.title = "changed"
+
+
+def test_custom_names_and_layout():
+    scene = Scene.from_matrices(M=[[1, 0], [0, 1]], x0=[0, 0], v0=[0, 0], names=["x", "y"], layout="vertical")
+    assert scene.names == ("x", "y")
+    assert scene.layout == "vertical"
+
+
+def test_spd_full_mass_matrix_and_symbolic_full_mass_matrix_are_accepted():
+    Scene.from_matrices(M=[[2, 1], [1, 2]], x0=[0, 0], v0=[0, 0])
+    Scene.from_matrices(M=[["m", "c"], ["c", "m"]], x0=[0, 0], v0=[0, 0])
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (dict(M=[[1, 2]]), r"M must be a non-empty square matrix, got shape 1x2"),
+        (dict(M=[]), r"non-empty square matrix, got shape 0x0"),
+        (dict(M=[1, 2]), r"M: expected a matrix \(a list of rows\), but row 0 is 1"),
+        (dict(M="1"), r"M: expected a matrix"),
+        (dict(M=[[1, 0], [0, 1, 2]]), r"M: row 1 has 3 entries but row 0 has 2"),
+        (dict(M=[[1, 0], [0, 1]], K=[[1]]), r"K has shape 1x1 but M has shape 2x2"),
+        (dict(M=[[1, 0], [0, 1]], C=[[1, 0, 0]] * 3), r"C has shape 3x3 but M has shape 2x2"),
+        (dict(M=[[1, 0], [0, 1]], x0=[0]), r"x0 has 1 entries, expected 2"),
+        (dict(M=[[1, 0], [0, 1]], v0=[0, 0, 0]), r"v0 has 3 entries, expected 2"),
+        (dict(M=[[1, 0], [0, 1]], x0=[[1, 2], [3, 4]]), r"x0: expected a vector"),
+        (dict(M=[[1, 0], [0, 0]]), r"mass M\[1,1\] must be positive, got 0; massless nodes are not supported yet"),
+        (dict(M=[[1, 0], [0, -1]]), r"mass M\[1,1\] must be positive, got -1"),
+        (dict(M=[["m", 0], [0, "-m"]]), r"mass M\[1,1\] must be positive, got -m"),
+        (dict(M=[[1, 2], [2, 1]]), r"M must be symmetric positive definite.*order 2 is -3"),
+        (dict(M=[[1, 2], [2, 4]]), r"M must be symmetric positive definite.*order 2 is 0"),
+        (dict(M=[[-1, 1], [1, 2]]), r"M must be symmetric positive definite.*order 1 is -1"),
+        (dict(M=[[1, 2], [3, 6]]), r"M must be invertible, but det\(M\) = 0"),
+        (dict(M=[["m", "m"], ["m", "m"]]), r"det\(M\) is identically zero"),
+        (dict(M=[[1]], K=[[float("nan")]]), r"K\[0,0\]: expected a finite number, got nan"),
+        (dict(M=[[1]], C=[[float("inf")]]), r"C\[0,0\]: expected a finite number"),
+        (dict(M=[["abc$"]]), r"M\[0,0\]: expected a number, got 'abc\$'"),
+        (dict(M=[[1]], x0=["1/0"]), r"x0\[0\]: .*division by zero"),
+        (dict(M=[[1]], layout="diagonal"), r"layout must be one of horizontal, vertical, got 'diagonal'"),
+        (dict(M=[[1]], names=["a", "b"]), r"names has 2 entries, expected 1"),
+        (dict(M=[[1, 0], [0, 1]], names=["a", "a"]), r"names must be distinct"),
+        (dict(M=[[1, 0], [0, 1]], names=["a", ""]), r"names must be non-empty strings"),
+    ],
+)
+def test_from_matrices_errors(arguments, message):
+    n = 2 if isinstance(arguments.get("M"), list) and len(arguments["M"]) == 2 else 1
+    arguments = {"x0": [0] * n, "v0": [0] * n, **arguments}
+    with pytest.raises(SceneError, match=message):
+        Scene.from_matrices(**arguments)
+
+
+def test_from_normalized_errors_name_A_and_B():
+    with pytest.raises(SceneError, match=r"B has shape 1x1 but A has shape 2x2"):
+        Scene.from_normalized(A=[[1, 0], [0, 1]], B=[[1]], x0=[0, 0], v0=[0, 0])
+    with pytest.raises(SceneError, match=r"A\[0,1\]: expected a number"):
+        Scene.from_normalized(A=[[1, "?"], [0, 1]], x0=[0, 0], v0=[0, 0])
+
+
+def test_constructor_requires_exact_matrices():
+    with pytest.raises(SceneError, match="M must be a sympy.ImmutableMatrix"):
+        Scene(M=[[1]], C=[[0]], K=[[0]], x0=[0], v0=[0], names=("x1",))
+    column = sympy.ImmutableMatrix([0])
+    square = sympy.ImmutableMatrix([[1]])
+    with pytest.raises(SceneError, match=r"x0 must be a 1x1 column"):
+        Scene(M=square, C=square, K=square, x0=sympy.ImmutableMatrix([[0, 0]]), v0=column, names=("x1",))
+    with pytest.raises(SceneError, match=r"K\[0,0\] must be a finite number"):
+        Scene(M=square, C=square, K=sympy.ImmutableMatrix([[sympy.oo]]), x0=column, v0=column, names=("x1",))
+
+
+# --- from_components ---------------------------------------------------------------
+
+
+def test_components_mapping_and_sequence_forms_agree():
+    by_mapping = Scene.from_components(
+        masses={"m1": 1, "m2": 2},
+        springs={"k1": ("wall", "m1", 1), "k2": ("m1", "m2", 3)},
+        dashpots={"c": ("m2", "floor", 0.5)},
+        x0={"m2": 1},
+        v0={"m1": 2},
+    )
+    by_sequence = Scene.from_components(
+        masses=[("m1", 1), ("m2", 2)],
+        springs=[("k1", "wall", "m1", 1), ("k2", "m1", "m2", 3)],
+        dashpots=[("c", "m2", "floor", 0.5)],
+        x0=[0, 1],
+        v0=[2, 0],
+    )
+    for field in ("M", "C", "K", "x0", "v0", "components", "mass_names", "names"):
+        assert getattr(by_mapping, field) == getattr(by_sequence, field), field
+    assert by_mapping.K == sympy.Matrix([[4, -3], [-3, 3]])
+    assert by_mapping.C == sympy.Matrix([[0, 0], [0, R(1, 2)]])
+    assert by_mapping.mass_names == ("m1", "m2")
+    assert by_mapping.components[2] == Component("dashpot", "c", "m2", "floor", R(1, 2))
+
+
+@pytest.mark.parametrize("support", sorted(SUPPORTS) + ["WALL", "Ceiling"])
+def test_every_support_name_is_accepted_case_insensitively(support):
+    scene = Scene.from_components(masses={"m": 2}, springs={"k": (support, "m", 5)})
+    assert scene.K == sympy.Matrix([[5]])
+    assert scene.components[0].a == support.lower()
+
+
+def test_initial_data_default_to_zero_and_zero_stiffness_is_allowed():
+    scene = Scene.from_components(masses={"m1": 1}, springs={"k": ("wall", "m1", 0)})
+    assert scene.x0 == sympy.Matrix([0]) and scene.v0 == sympy.Matrix([0])
+    assert scene.K == sympy.Matrix([[0]])
+
+
+def test_component_symbols_are_positive():
+    scene = Scene.from_components(masses={"m": "m"}, springs={"k": ("wall", "m", "k")})
+    assert all(symbol.is_positive for symbol in scene.free_symbols)
+
+
+@pytest.mark.parametrize(
+    ("overrides", "message"),
+    [
+        (dict(springs={"k": ("m1", "m3", 1)}), r"spring 'k': unknown node 'm3'; known masses: m1, m2; supports: air, ceiling"),
+        (dict(dashpots={"c": ("m1", 7, 1)}), r"dashpot 'c': unknown node 7"),
+        (dict(springs={"k": ("m1", "m1", 1)}), r"spring 'k' connects 'm1' to itself"),
+        (dict(springs={"k": ("wall", "Ground", 1)}), r"spring 'k' connects two supports \('wall', 'ground'\)"),
+        (dict(springs={"k": ("m1", "m2", -1)}), r"spring 'k': stiffness must be nonnegative, got -1"),
+        (dict(dashpots={"c": ("m1", "m2", "-c")}), r"dashpot 'c': damping must be nonnegative, got -c"),
+        (dict(springs={"k": ("m1", "m2", 1)}, dashpots={"k": ("m1", "m2", 1)}), r"component label 'k' is used twice"),
+        (dict(springs=[("k", "m1", "m2", 1), ("k", "m1", "wall", 1)]), r"component label 'k' is used twice"),
+        (dict(springs={"k": ("m1", "m2")}), r"spring 'k': expected \(node_a, node_b, value\)"),
+        (dict(springs=[("k", "m1", 1)]), r"springs: expected rows of 4 items"),
+        (dict(springs={"k": ("m1", "m2", "1 +")}), r"spring 'k': expected a number, got '1 \+'"),
+        (dict(masses={"m1": 1, "m2": 0}), r"mass 'm2' must be positive, got 0; massless nodes are not supported yet"),
+        (dict(masses={"m1": 1, "m2": -1}), r"mass 'm2' must be positive, got -1"),
+        (dict(masses={"m1": "-m"}), r"mass 'm1' must be positive, got -m"),
+        (dict(masses={"Wall": 1}), r"mass name 'Wall' is reserved for a fixed support"),
+        (dict(masses=[("m1", 1), ("m1", 2)]), r"mass 'm1' is given twice"),
+        (dict(masses={}), r"a scene needs at least one mass"),
+        (dict(masses={"": 1}), r"mass names must be non-empty strings"),
+        (dict(x0={"m3": 1}), r"x0: unknown mass 'm3'; masses are m1, m2"),
+        (dict(v0=[1]), r"v0 has 1 entries, expected 2"),
+        (dict(layout="sideways"), r"layout must be one of"),
+    ],
+)
+def test_from_components_errors(overrides, message):
+    arguments = {"masses": {"m1": 1, "m2": 2}, **overrides}
+    with pytest.raises(SceneError, match=message):
+        Scene.from_components(**arguments)

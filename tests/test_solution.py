@@ -1,0 +1,94 @@
+"""solve() on every bundled scene against an independent 40-digit matrix exponential."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import laplace_springs as ls
+from conftest import reference_motion, relative_error
+
+BUNDLED = ["vertical-pair", "vertical-pair-damped", "wall-pair", "wall-pair-dashpot",
+           "three-dashpots"]
+TIMES = [0.0, 0.35, 1.0, 2.5, 7.75, 15.0]
+
+
+@pytest.fixture(scope="module", params=BUNDLED)
+def solved(request):
+    scene = ls.load_scene(request.param)
+    return scene, ls.solve(scene), reference_motion(scene, TIMES)
+
+
+def test_float64_evaluation_matches_reference(solved):
+    scene, sol, ref = solved
+    values = sol.evaluate(TIMES)
+    assert values.shape == (scene.n, len(TIMES)) and values.dtype == float
+    assert relative_error(values, ref) < 1e-13
+
+
+def test_high_precision_evaluation_matches_reference(solved):
+    _, sol, ref = solved
+    assert relative_error(sol.evaluate(TIMES, dps=30), ref) < 1e-27
+
+
+def test_exact_expression_matches_reference(solved):
+    _, sol, ref = solved
+    exact = np.array([[sp.N(e.subs(ls.t, sp.Rational(str(tv))), 35) for tv in TIMES] for e in sol.x])
+    assert relative_error(exact, ref) < 1e-30
+
+
+def test_closed_form_is_real_and_heaviside_free(solved):
+    _, sol, _ = solved
+    assert not sol.x.has(sp.I, sp.Heaviside, sp.Float, sp.DiracDelta)
+
+
+def test_verify_accepts_the_solution(solved):
+    _, sol, _ = solved
+    assert sol.verify()
+
+
+def test_verify_rejects_a_wrong_solution():
+    sol = ls.solve(ls.load_scene("vertical-pair-damped"))
+    first = sol.terms[0][0]
+    broken = dataclasses.replace(first, alpha=first.alpha * sp.Rational(101, 100))
+    tampered = dataclasses.replace(sol, terms=((broken, *sol.terms[0][1:]), *sol.terms[1:]))
+    report = tampered.verify()
+    assert not report and report.ode_residual > 1e-6
+
+
+def test_undamped_scene_has_no_exponentials():
+    sol = ls.solve(ls.load_scene("wall-pair"))
+    assert not sol.x.has(sp.exp)
+
+
+def test_irreducible_quartic_uses_algebraic_numbers():
+    sol = ls.solve(ls.load_scene("three-dashpots"))
+    assert sol.x.has(sp.CRootOf)
+    assert ls.resolvent(sol.scene).determinant.factor_list()[1][0][0].degree() == 4
+
+
+@pytest.mark.parametrize("M, C, K, x0, v0, expected", [
+    # critically damped mass: x'' + 2x' + x = 0 (textbook: (x0 + (v0 + x0) t) e^{-t})
+    ([[1]], [[2]], [[1]], [1], [0], (1 + ls.t) * sp.exp(-ls.t)),
+    # free body with a dashpot only: x'' + x' = 0, x(0) = 0, x'(0) = 1 -> 1 - e^{-t}
+    ([[1]], [[1]], None, [0], [1], 1 - sp.exp(-ls.t)),
+    # overdamped: x'' + 3x' + 2x = 0, x(0) = 1 -> 2e^{-t} - e^{-2t}
+    ([[1]], [[3]], [[2]], [1], [0], 2 * sp.exp(-ls.t) - sp.exp(-2 * ls.t)),
+])
+def test_single_mass_textbook_cases(M, C, K, x0, v0, expected):
+    sol = ls.solve(ls.Scene.from_matrices(M=M, C=C, K=K, x0=x0, v0=v0))
+    assert sp.simplify(sol.x[0] - expected) == 0
+
+
+def test_latex_has_one_line_per_coordinate():
+    text = ls.solve(ls.load_scene("vertical-pair")).latex()
+    assert text.count(r"(t) &=") == 2 and "x_{1}(t)" in text
+    assert r"\sin" in text and r"\cos" in text
+
+
+def test_unknown_method_is_an_error():
+    with pytest.raises(ValueError, match="method"):
+        ls.solve(ls.load_scene("vertical-pair"), method="magic")
