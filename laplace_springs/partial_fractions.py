@@ -191,7 +191,6 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFr
     lc = denominator.LC()
     factors = [(f.set_domain(own_field).monic(), m) for f, m in denominator.factor_list()[1]]
     if field != own_field:
-        lc = field.convert_from(lc, own_field)
         factors = [(f.set_domain(field), m) for f, m in factors]
         denominator = denominator.set_domain(field)
     numerators = [N.set_domain(field) for N in numerators]

@@ -167,12 +167,44 @@ def _algebraic_terms(group: PoleGroup) -> list[Term]:
     return out
 
 
+def _is_symbolic_biquadratic(q: sp.Poly) -> bool:
+    """s⁴ + p s² + r with coefficients that are not all rational."""
+    coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
+    return q.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0 and not all(
+        c.is_Rational for c in coeffs)
+
+
+def _biquadratic_terms(group: PoleGroup) -> list[Term]:
+    """q = s⁴ + p s² + r, an undamped pair: roots ±iω with ω² = -z, z² + p z + r = 0.
+
+    With h(s) = h_e(s²) + s·h_o(s²), the pair ±iω contributes
+    2 h_e(z) cos ωt - 2ω h_o(z) sin ωt, an identity in ω whatever the sign of z.
+    """
+    to_sympy = group.factor.domain.to_sympy
+    _, _, p, _, r = (to_sympy(c) for c in group.factor.all_coeffs())
+    root = sp.sqrt(sp.factor(p**2 - 4 * r))
+    out = []
+    for z in ((-p + root) / 2, (-p - root) / 2):
+        omega = sp.sqrt(-z)
+        for k, h in enumerate(group.residues, start=1):
+            c = [to_sympy(v) for v in reversed(h.all_coeffs())] + [0] * 4
+            even, odd = c[0] + c[2] * z, c[1] + c[3] * z
+            scale = 2 * residue_scale(k)
+            term = _term("oscillatory", k - 1, 0, omega, sp.factor_terms(even * scale),
+                         sp.factor_terms(-omega * odd * scale), clean=False)
+            if term:
+                out.append(term)
+    return out
+
+
 def group_terms(group: PoleGroup) -> list[Term]:
     """Real terms of one pole group (see the module docstring for the forms)."""
     if group.degree == 1:
         return _linear_terms(group)
     if group.degree == 2:
         return _quadratic_terms(group)
+    if _is_symbolic_biquadratic(group.factor):
+        return _biquadratic_terms(group)
     return _algebraic_terms(group)
 
 

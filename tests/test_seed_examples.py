@@ -112,3 +112,25 @@ def test_example1_leaves_out_what_the_scene_does_not_need():
     sol = ls.solve(ls.Scene.from_normalized(A=A1, x0=[1, 0], v0=[0, 0]))
     assert not sol.x.has(sp.exp) and not sol.x.has(sp.sin)  # undamped, at rest: cosines only
     assert sol.g_indices == (1, 3)  # only λ and λ³ numerators occur when v0 = 0
+
+
+# --- Example 3 -------------------------------------------------------------------------
+
+def test_example3_fully_symbolic_solution_matches_the_seed_numbers():
+    from conftest import reference_motion, relative_error
+
+    m1, m2, k1, k2, k3 = sp.symbols("m1 m2 k1 k2 k3", positive=True)
+    d1, d2, v1, v2 = sp.symbols("d1 d2 v1 v2", real=True)
+    # The physics (the page couples through -k3·x1 by mistake; it is -k2·x1).
+    scene = ls.Scene.from_matrices(M=[[m1, 0], [0, m2]], K=[[k1 + k2, -k2], [-k2, k2 + k3]],
+                                   x0=[d1, d2], v0=[v1, v2])
+    sol = ls.solve(scene)
+    assert not sol.x.has(sp.CRootOf, sp.Heaviside, sp.exp)
+    assert sol.verify()
+    numbers = {m1: 1, m2: sp.Rational(2, 3), k1: sp.Rational(3, 10), k2: sp.Rational(8, 100),
+               k3: sp.Rational(2, 10), d1: sp.Rational(-8, 100), d2: sp.Rational(4, 10),
+               v1: sp.Rational(15, 100), v2: sp.Rational(-3, 10)}
+    times = ["0.5", "3", "11.25", "40"]
+    values = [[sp.N(e.xreplace(numbers).subs(t, sp.Rational(tv)), 40) for tv in times] for e in sol.x]
+    reference = reference_motion(ls.load_scene("wall-pair"), times)
+    assert relative_error(values, reference) < 1e-30
