@@ -19,7 +19,7 @@ import sympy as sp
 from sympy.core.evalf import prec_to_dps
 from sympy.polys.rootoftools import ComplexRootOf
 
-__all__ = ["AlgebraicRoot", "root_enclosures"]
+__all__ = ["AlgebraicRoot", "numeric_value", "root_enclosures"]
 
 
 @lru_cache(maxsize=512)
@@ -69,21 +69,17 @@ class AlgebraicRoot(ComplexRootOf):
     __slots__ = ()
 
     def _eval_evalf(self, prec, **kwargs):
-        coeffs = tuple(reversed([sp.Rational(c) for c in self.poly.all_coeffs()]))
-        value = _root_value(coeffs, self.index, prec_to_dps(prec) + 10)
+        value = _root_value(self, prec_to_dps(prec) + 10)
         if value is None:  # an enclosure on an interval edge: SymPy's refinement decides
             return super()._eval_evalf(prec, **kwargs)
         return value.evalf(prec_to_dps(prec))
 
-    def numeric(self, dps: int) -> sp.Expr:
-        """The root as a SymPy Float (or complex Float) with ``dps`` digits."""
-        return self.evalf(dps)
-
 
 @lru_cache(maxsize=4096)
-def _root_value(coeffs: tuple[sp.Rational, ...], index: int, dps: int) -> sp.Expr | None:
-    """Value of root ``index`` (SymPy's ordering) of a rational polynomial, or None."""
-    interval = ComplexRootOf._new(sp.Poly(list(reversed(coeffs)), sp.Dummy("x")), index)._get_interval()
+def _root_value(root: AlgebraicRoot, dps: int) -> sp.Expr | None:
+    """Value of a root at ``dps`` digits from flint, or None if the match is ambiguous."""
+    coeffs = tuple(reversed([sp.Rational(c) for c in root.poly.all_coeffs()]))
+    interval = root._get_interval()
     with mpmath.workdps(dps):
         found = [(mpmath.mpf(re), mpmath.mpf(im)) for re, im in root_enclosures(coeffs, dps)]
         inside = [z for z in found if _inside(interval, *z)]
@@ -91,3 +87,17 @@ def _root_value(coeffs: tuple[sp.Rational, ...], index: int, dps: int) -> sp.Exp
             return None
         re, im = inside[0]
         return sp.Float(re, dps) + sp.I * sp.Float(im, dps) if im else sp.Float(re, dps)
+
+
+def numeric_value(expr: sp.Expr, dps: int) -> sp.Expr:
+    """``N(expr, dps)``, with each algebraic root in it evaluated once, not per occurrence.
+
+    SymPy's adaptive evalf asks every occurrence of a root (inside ``re``, ``im`` and
+    powers) for its value at several precisions; substituting the roots first makes
+    the evaluation of a closed form cost one flint call per root.
+    """
+    expr = sp.sympify(expr)
+    roots = expr.atoms(AlgebraicRoot)
+    if roots:
+        expr = expr.xreplace({r: r.evalf(dps + 10) for r in roots})
+    return sp.N(expr, dps)

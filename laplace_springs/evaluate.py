@@ -17,7 +17,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from .algebraic import AlgebraicRoot
+from .algebraic import numeric_value
 from .real_terms import Term
 
 __all__ = ["NumericTerms", "numeric_terms", "evaluate_float", "evaluate_mp"]
@@ -25,11 +25,7 @@ __all__ = ["NumericTerms", "numeric_terms", "evaluate_float", "evaluate_mp"]
 
 def _mp_value(expr: sp.Expr, dps: int) -> mpmath.mpf:
     """An exact real expression as an mpmath number at ``dps`` digits."""
-    expr = sp.sympify(expr)
-    roots = expr.atoms(AlgebraicRoot)
-    if roots:  # each root once, not once per occurrence inside re() and im()
-        expr = expr.xreplace({r: r.numeric(dps + 10) for r in roots})
-    value = sp.N(expr, dps)
+    value = numeric_value(expr, dps)
     if value.is_real is False:
         value = sp.re(value)
     with mpmath.workdps(dps):

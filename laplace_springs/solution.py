@@ -15,6 +15,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .algebraic import numeric_value
 from .evaluate import NumericTerms, evaluate_float, evaluate_mp, numeric_terms
 from .numbers import TIME
 from .partial_fractions import decompose
@@ -182,7 +183,8 @@ def _generic_values(symbols) -> dict:
 
 def _size(exprs, values: dict, dps: int) -> float:
     """max |e| over the expressions, at ``dps`` digits (complex values allowed)."""
-    return max((float(abs(sp.N(sp.sympify(e).xreplace(values), dps))) for e in exprs), default=0.0)
+    return max((float(abs(numeric_value(sp.sympify(e).xreplace(values), dps))) for e in exprs),
+               default=0.0)
 
 
 def _latex_name(name: str) -> str:
