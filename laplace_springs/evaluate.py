@@ -97,12 +97,22 @@ def evaluate_float(data: NumericTerms, n: int, times: np.ndarray) -> np.ndarray:
     return out
 
 
+def _mp_time(value) -> mpmath.mpf:
+    """A time as an mpf: floats by their shortest decimal (0.1 is 1/10), like all input."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return mpmath.mpf(repr(value))
+    if isinstance(value, sp.Basic):
+        return mpmath.mpf(sp.Float(value, mpmath.mp.dps)._mpf_)
+    return mpmath.mpf(value)
+
+
 def evaluate_mp(data: NumericTerms, n: int, times: Sequence, dps: int) -> np.ndarray:
     """Sum the terms with mpmath at ``dps`` digits; an object array of mpf values."""
     out = np.empty((n, len(times)), dtype=object)
     with mpmath.workdps(dps):
-        ts = [mpmath.mpf(str(v)) if isinstance(v, (float, np.floating)) else mpmath.mpf(v)
-              for v in times]
+        ts = [_mp_time(v) for v in times]
         out[:] = mpmath.mpf(0)
         for j in range(len(data.rate)):
             i, k = data.row[j], int(data.power[j])

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 
+import mpmath
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -92,3 +94,13 @@ def test_latex_has_one_line_per_coordinate():
 def test_unknown_method_is_an_error():
     with pytest.raises(ValueError, match="method"):
         ls.solve(ls.load_scene("vertical-pair"), method="magic")
+
+
+@pytest.mark.parametrize("times", [[0, 1, 2], np.arange(3), np.array([0.0, 1.0, 2.0]),
+                                   ["0", "1", "2"], [sp.Integer(0), 1, sp.Rational(2)]])
+def test_high_precision_evaluation_accepts_any_kind_of_time(times):
+    scene = ls.Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0])
+    values = ls.solve(scene).evaluate(times, dps=25)
+    with mpmath.workdps(40):  # critically damped mass: (1 + t) e^{-t}
+        expected = [(1 + tv) * mpmath.exp(-tv) for tv in range(3)]
+        assert all(abs(v - e) < 1e-24 for v, e in zip(values[0], expected))

@@ -1,0 +1,246 @@
+"""Command-line interface: ``laplace-springs solve SCENE`` and ``laplace-springs scenes``.
+
+Examples
+--------
+Print the closed form, the LaTeX, or a table of values of a bundled scene::
+
+    laplace-springs solve vertical-pair
+    laplace-springs solve vertical-pair --latex
+    laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
+    laplace-springs scenes
+
+Errors (a bad scene file, an unknown scene, a bad option value) are reported as one
+line ``laplace-springs: error: ...`` on stderr with exit status 2, like argparse's own
+usage errors.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, TextIO
+
+import mpmath
+import sympy as sp
+
+import laplace_springs as ls
+
+if TYPE_CHECKING:
+    from laplace_springs.scene import Scene
+    from laplace_springs.solution import Solution
+
+__all__ = ["main"]
+
+PROG = "laplace-springs"
+
+#: Significant digits of the ``--at`` table when no ``--dps`` is given.
+TABLE_DIGITS = 12
+
+_EXIT_ERROR = 2
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    """The argument parser with its ``solve`` and ``scenes`` subcommands."""
+    parser = argparse.ArgumentParser(
+        prog=PROG,
+        description="Exact Laplace-transform solutions of spring-mass-damper systems.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {ls.__version__}")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    solve = commands.add_parser("solve", help="solve a scene and print x(t)",
+                                description="Solve a scene exactly and print x(t).")
+    solve.add_argument("scene", metavar="SCENE",
+                       help="a bundled scene name (see 'laplace-springs scenes') or a .toml path")
+    output = solve.add_mutually_exclusive_group()
+    output.add_argument("--pretty", action="store_true",
+                        help="print each coordinate as a 2-D pretty-printed formula")
+    output.add_argument("--latex", action="store_true",
+                        help="print a LaTeX aligned block instead")
+    output.add_argument("--at", metavar="T1,T2,...",
+                        help="print a table of values at these times (t >= 0)")
+    solve.add_argument("--dps", type=int, metavar="N",
+                       help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
+    solve.set_defaults(run=_run_solve)
+
+    scenes = commands.add_parser("scenes", help="list the bundled scenes",
+                                 description="List the bundled scenes: name and title.")
+    scenes.set_defaults(run=_run_scenes)
+    return parser
+
+
+def parse_times(text: str) -> list[float]:
+    """Times from a comma-separated list, such as ``"0,0.5,1"``.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated numbers; spaces around items are allowed.
+
+    Returns
+    -------
+    list of float
+
+    Raises
+    ------
+    ValueError
+        For an empty item, text that is not a number, NaN, infinity or a negative time;
+        the message quotes the offending item.
+
+    Examples
+    --------
+    >>> parse_times("0, 0.5,1e-3")
+    [0.0, 0.5, 0.001]
+    >>> parse_times("1,abc")
+    Traceback (most recent call last):
+    ...
+    ValueError: --at: 'abc' is not a number (give times like 0,0.5,1)
+    """
+    return [_parse_time(item.strip()) for item in text.split(",")]
+
+
+def _parse_time(item: str) -> float:
+    try:
+        value = float(item)
+    except ValueError:
+        raise ValueError(f"--at: {item!r} is not a number (give times like 0,0.5,1)") from None
+    if not math.isfinite(value):
+        raise ValueError(f"--at: time must be finite, got {item!r}")
+    if value < 0:
+        raise ValueError(f"--at: time must be >= 0 (the solution holds for t >= 0), got {item!r}")
+    return value
+
+
+def _check_dps(args: argparse.Namespace) -> None:
+    if args.dps is None:
+        return
+    if args.at is None:
+        raise ValueError("--dps needs --at (it sets the precision of the table of values)")
+    if not 1 <= args.dps <= 10_000:
+        raise ValueError(f"--dps must be between 1 and 10000, got {args.dps}")
+
+
+def _root_names(exprs: Sequence[sp.Expr]) -> dict[sp.CRootOf, sp.Symbol]:
+    """Short names r1, r2, ... for the CRootOf objects in the expressions."""
+    roots = sorted(set().union(*(e.atoms(sp.CRootOf) for e in exprs)), key=sp.default_sort_key)
+    return {root: sp.Symbol(f"r{j}") for j, root in enumerate(roots, start=1)}
+
+
+def _root_legend(names: dict[sp.CRootOf, sp.Symbol]) -> list[str]:
+    """Lines ``where r1 = CRootOf(...) ≈ value`` for the named roots."""
+    if not names:
+        return []
+    lines = ["where (algebraic numbers: CRootOf(p, k) is the k-th root of p)"]
+    for root, name in names.items():
+        lines.append(f"  {name} = {sp.sstr(root)} ≈ {sp.sstr(sp.N(root, 15))}")
+    return lines
+
+
+def _formula_lines(scene: Scene, solution: Solution, *, pretty: bool) -> list[str]:
+    """``x1(t) = ...`` for each coordinate, with long root objects named once."""
+    exprs = list(solution.x)
+    names = _root_names(exprs)
+    lines = []
+    for name, expr in zip(scene.names, exprs):
+        short = expr.xreplace(names)
+        if pretty:
+            lines += [f"{name}(t) =", sp.pretty(short, use_unicode=True), ""]
+        else:
+            lines.append(f"{name}(t) = {sp.sstr(short)}")
+    return lines + _root_legend(names)
+
+
+def _format_value(value, digits: int) -> str:
+    if isinstance(value, mpmath.mpf):
+        return mpmath.nstr(value, digits, min_fixed=-4, max_fixed=digits)
+    return f"{float(value):.{digits}g}"
+
+
+def _format_time(time: float) -> str:
+    """A time as typed: 12 significant digits when they say it all, else Python's repr."""
+    short = f"{time:.12g}"
+    return short if float(short) == time else repr(time)
+
+
+def _table_lines(names: Sequence[str], times: Sequence[float], values, digits: int) -> list[str]:
+    """A right-aligned table: t then one column per coordinate."""
+    width = digits + 8
+    rows = ["  ".join(cell.rjust(width) for cell in ["t", *names])]
+    for col, time in enumerate(times):
+        cells = [_format_time(time)] + [_format_value(values[i, col], digits)
+                                          for i in range(len(names))]
+        rows.append("  ".join(cell.rjust(width) for cell in cells))
+    return rows
+
+
+def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
+    _check_dps(args)
+    times = parse_times(args.at) if args.at is not None else None
+    scene = ls.load_scene(args.scene)
+    solution = ls.solve(scene)
+    if args.latex:
+        print(solution.latex(), file=out)
+        return
+    lines = [scene.title] if scene.title else []
+    if times is not None:
+        values = solution.evaluate(times, dps=args.dps)
+        lines += _table_lines(scene.names, times, values, args.dps or TABLE_DIGITS)
+    else:
+        lines += _formula_lines(scene, solution, pretty=args.pretty)
+    print("\n".join(lines), file=out)
+
+
+def _run_scenes(args: argparse.Namespace, out: TextIO) -> None:
+    scenes = ls.bundled_scenes()
+    width = max((len(name) for name in scenes), default=0)
+    for name, title in scenes.items():
+        print(f"{name.ljust(width)}  {title}", file=out)
+
+
+def _report(message: str) -> int:
+    """Print one error line to stderr and return the error exit status."""
+    one_line = " ".join(str(message).split())
+    print(f"{PROG}: error: {one_line}", file=sys.stderr)
+    return _EXIT_ERROR
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; ``sys.argv[1:]`` when omitted.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 2 for a usage error or a bad scene, option value or
+        file (reported as one line ``laplace-springs: error: ...`` on stderr).
+    """
+    parser = _build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or an argparse usage error
+        return exc.code if isinstance(exc.code, int) else _EXIT_ERROR
+    try:
+        args.run(args, sys.stdout)
+        sys.stdout.flush()
+    except BrokenPipeError:  # output piped into `head` and closed early: stop quietly
+        _silence_stdout()
+        return 1
+    except (ValueError, OSError) as exc:  # SceneError and InversionError are ValueErrors
+        return _report(str(exc) or type(exc).__name__)
+    return 0
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so the interpreter's final flush does not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # stdout without a file descriptor
+        pass

@@ -1,0 +1,287 @@
+"""Tests of the command line, ``laplace-springs`` / ``python -m laplace_springs``.
+
+Expected values come from outside the code under test: the seed's Example 1 closed
+form (from its Φ and Ψ), and an mpmath matrix exponential of the first-order system
+built here from the seed's numbers for Example 4.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import mpmath
+import pytest
+import sympy
+
+import laplace_springs as ls
+from laplace_springs.cli import main, parse_times
+
+BUNDLED = ["three-dashpots", "vertical-pair", "vertical-pair-damped", "wall-pair",
+           "wall-pair-dashpot"]
+
+
+def run(capsys, *args: str) -> tuple[int, str, str]:
+    """Exit status, stdout and stderr of ``laplace-springs ARGS``."""
+    code = main(list(args))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def assert_one_line_error(code: int, out: str, err: str, *fragments: str) -> None:
+    assert code == 2
+    assert out == ""
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("laplace-springs: error: ")
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def table(out: str) -> tuple[list[str], list[list[float]]]:
+    """Header and float rows of an ``--at`` table (after the title line)."""
+    lines = out.splitlines()
+    header = lines[1].split()
+    return header, [[float(cell) for cell in line.split()] for line in lines[2:]]
+
+
+# The seed's Example 1, A = [[3, -1], [-2, 2]], x0 = [1, 0], v0 = [0, 1]: x = Φ x0 + Ψ v0.
+def example_1(time: float) -> tuple[float, float]:
+    c1, c2, s1, s2 = math.cos(time), math.cos(2 * time), math.sin(time), math.sin(2 * time)
+    return (c1 / 3 + 2 * c2 / 3 + s1 / 3 - s2 / 6,
+            2 * c1 / 3 - 2 * c2 / 3 + 2 * s1 / 3 + s2 / 6)
+
+
+def example_4(time: str, dps: int = 50) -> list[mpmath.mpf]:
+    """The seed's Example 4 (delta = 0.1) by the matrix exponential of [[0, I], [-M⁻¹K, -M⁻¹C]].
+
+    m1 = 1, m2 = 2, k1 = 1, k3 = 2, b = 0.5, delta = 0.1; x0 = [0.1, 0.3], v0 = [0.2, -0.5].
+    """
+    with mpmath.workdps(dps):
+        f = mpmath.mpf
+        M = mpmath.diag([1, 2])
+        K = mpmath.matrix([[1, 0], [0, 2]])
+        C = mpmath.matrix([[f("0.6"), f("-0.5")], [f("-0.5"), f("0.6")]])
+        Minv = M**-1
+        state = mpmath.zeros(4, 4)
+        state[0, 2] = state[1, 3] = 1
+        lower = -Minv * K, -Minv * C
+        for i in range(2):
+            for j in range(2):
+                state[2 + i, j] = lower[0][i, j]
+                state[2 + i, 2 + j] = lower[1][i, j]
+        start = mpmath.matrix([f("0.1"), f("0.3"), f("0.2"), f("-0.5")])
+        x = mpmath.expm(state * f(time)) * start
+        return [+x[0], +x[1]]
+
+
+# ---------------------------------------------------------------------------- solve
+
+
+def test_solve_prints_title_and_one_line_per_coordinate(capsys):
+    code, out, err = run(capsys, "solve", "vertical-pair")
+    assert (code, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0] == "Example 1: two masses hanging from the ceiling"
+    assert [line.split(" = ")[0] for line in lines[1:]] == ["x1(t)", "x2(t)"]
+    t = sympy.Symbol("t")
+    expected = [
+        sympy.cos(t) / 3 + 2 * sympy.cos(2 * t) / 3 + sympy.sin(t) / 3 - sympy.sin(2 * t) / 6,
+        2 * sympy.cos(t) / 3 - 2 * sympy.cos(2 * t) / 3 + 2 * sympy.sin(t) / 3 + sympy.sin(2 * t) / 6,
+    ]
+    for line, exact in zip(lines[1:], expected):
+        printed = sympy.sympify(line.split(" = ", 1)[1], locals={"t": t})
+        assert sympy.simplify(printed - exact) == 0
+
+
+def test_solve_names_algebraic_roots_once(capsys):
+    code, out, _ = run(capsys, "solve", "wall-pair-dashpot")
+    assert code == 0
+    lines = out.splitlines()
+    assert lines[1].startswith("x1(t) = ") and lines[2].startswith("x2(t) = ")
+    assert "CRootOf" not in lines[1] + lines[2]
+    legend = {line.split(" = ")[0].strip(): line for line in lines[4:]}
+    assert set(legend) == {"r1", "r2"}
+    assert "CRootOf(200*lambda**4 + 180*lambda**3 + 411*lambda**2 + 180*lambda + 200, 1)" in legend["r1"]
+
+    # The printed formula, with the printed 15-digit roots, against the matrix exponential.
+    roots = {sympy.Symbol(name): sympy.sympify(line.split("≈")[1]) for name, line in legend.items()}
+    t = sympy.Symbol("t")
+    for index, line in enumerate(lines[1:3]):
+        printed = sympy.sympify(line.split(" = ", 1)[1], locals={"t": t, "r1": sympy.Symbol("r1"),
+                                                                  "r2": sympy.Symbol("r2")})
+        value = complex(printed.subs(roots).subs(t, sympy.Rational(3, 2)).evalf(20))
+        assert value.real == pytest.approx(float(example_4("1.5")[index]), abs=1e-10)
+
+
+def test_at_table_matches_seed_example_1(capsys):
+    times = [0.0, 0.5, 1.0, 2.5, 10.0, 123.25]
+    code, out, err = run(capsys, "solve", "vertical-pair", "--at", ",".join(map(str, times)))
+    assert (code, err) == (0, "")
+    header, rows = table(out)
+    assert header == ["t", "x1", "x2"]
+    assert [row[0] for row in rows] == times
+    for time, x1, x2 in rows:
+        assert (x1, x2) == pytest.approx(example_1(time), abs=1e-10)
+
+
+def test_at_table_matches_matrix_exponential_on_a_quartic(capsys):
+    code, out, _ = run(capsys, "solve", "wall-pair-dashpot", "--at", "0, 0.75, 3, 40")
+    assert code == 0
+    for time, *values in table(out)[1]:
+        expected = example_4(repr(time))
+        assert values == pytest.approx([float(v) for v in expected], abs=1e-10)
+
+
+def test_dps_table_has_the_requested_digits(capsys):
+    code, out, _ = run(capsys, "solve", "wall-pair-dashpot", "--at", "0,1.5", "--dps", "30")
+    assert code == 0
+    lines = out.splitlines()[2:]
+    for line in lines:
+        time, *cells = line.split()
+        with mpmath.workdps(40):
+            expected = example_4(time)
+            for cell, exact in zip(cells, expected):
+                assert abs(mpmath.mpf(cell) - exact) <= mpmath.mpf("1e-28") * max(1, abs(exact))
+
+
+def test_dps_table_prints_the_requested_number_of_digits(capsys):
+    code, out, _ = run(capsys, "solve", "vertical-pair", "--at", "1", "--dps", "25")
+    assert code == 0
+    _, x1, x2 = out.splitlines()[2].split()
+    assert len(x1.lstrip("-0.").replace(".", "")) == 25
+    assert float(x1) == pytest.approx(example_1(1.0)[0], abs=1e-15)
+
+
+def test_latex_prints_the_aligned_block(capsys):
+    code, out, _ = run(capsys, "solve", "vertical-pair", "--latex")
+    assert code == 0
+    assert out.startswith("\\begin{aligned}\n")
+    assert out.rstrip().endswith("\\end{aligned}")
+    assert "x_{1}(t) &=" in out and "x_{2}(t) &=" in out
+
+
+def test_pretty_prints_two_dimensional_formulas(capsys):
+    code, out, _ = run(capsys, "solve", "vertical-pair", "--pretty")
+    assert code == 0
+    assert "x1(t) =" in out and "x2(t) =" in out
+    assert len(out.splitlines()) > 5
+
+
+def test_solve_reads_a_scene_file(capsys, tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text('title = "one mass"\n[masses]\nm1 = "1"\n[springs]\nk1 = ["wall", "m1", "4"]\n'
+                    '[initial]\nx0 = ["1"]\n', encoding="utf-8")
+    code, out, _ = run(capsys, "solve", str(path), "--at", "0.3")
+    assert code == 0
+    assert table(out)[1] == [[0.3, pytest.approx(math.cos(0.6), abs=1e-11)]]
+
+
+def test_parse_times():
+    assert parse_times(" 0 ,0.5, 1e2") == [0.0, 0.5, 100.0]
+
+
+# ---------------------------------------------------------------------------- scenes, version
+
+
+def test_scenes_lists_names_and_aligned_titles(capsys):
+    code, out, _ = run(capsys, "scenes")
+    assert code == 0
+    lines = out.splitlines()
+    assert [line.split()[0] for line in lines] == BUNDLED
+    titles = ls.bundled_scenes()
+    column = {line.index(titles[line.split()[0]]) for line in lines}
+    assert len(column) == 1
+    assert "Example 1: two masses hanging from the ceiling" in out
+
+
+def test_version(capsys):
+    code, out, _ = run(capsys, "--version")
+    assert code == 0
+    assert out.strip() == f"laplace-springs {ls.__version__}"
+
+
+# ---------------------------------------------------------------------------- errors
+
+
+def test_unknown_scene_is_one_line_naming_it(capsys):
+    assert_one_line_error(*run(capsys, "solve", "no-such-scene"), "'no-such-scene'", "vertical-pair")
+
+
+def test_code_in_a_scene_file_is_refused_and_never_run(capsys, tmp_path):
+    marker = tmp_path / "x"
+    path = tmp_path / "evil.toml"
+    path.write_text(f"title = \"evil\"\n[masses]\nm1 = \"__import__('os').system('touch {marker}')\"\n"
+                    "[springs]\nk1 = [\"wall\", \"m1\", \"1\"]\n", encoding="utf-8")
+    assert_one_line_error(*run(capsys, "solve", str(path)), "evil.toml", "m1")
+    assert not marker.exists()
+
+
+@pytest.mark.parametrize("text", ['title = "unclosed\n', "[masses]\nm1 = -1\n"])
+def test_bad_scene_file_is_one_line(capsys, tmp_path, text):
+    path = tmp_path / "bad.toml"
+    path.write_text(text, encoding="utf-8")
+    assert_one_line_error(*run(capsys, "solve", str(path)), "bad.toml")
+
+
+def test_missing_scene_file_is_one_line(capsys, tmp_path):
+    assert_one_line_error(*run(capsys, "solve", str(tmp_path / "absent.toml")), "absent.toml")
+
+
+@pytest.mark.parametrize("times, fragment", [
+    ("1,abc", "'abc'"), ("1,,2", "''"), ("nan", "finite"), ("0,inf", "finite"),
+    ("-1", ">= 0"), ("-0.5,1", ">= 0"),
+])
+def test_bad_times_are_one_line(capsys, times, fragment):
+    assert_one_line_error(*run(capsys, "solve", "vertical-pair", f"--at={times}"), "--at", fragment)
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--dps", "30"], "--dps needs --at"),
+    (["--at", "1", "--dps", "0"], "--dps"),
+])
+def test_bad_dps_is_one_line(capsys, args, fragment):
+    assert_one_line_error(*run(capsys, "solve", "vertical-pair", *args), fragment)
+
+
+@pytest.mark.parametrize("args", [
+    [], ["frobnicate"], ["solve"], ["solve", "vertical-pair", "--latex", "--at", "1"],
+    ["solve", "vertical-pair", "--at", "1", "--dps", "many"],
+])
+def test_usage_errors_exit_2(capsys, args):
+    code, out, err = run(capsys, *args)
+    assert code == 2
+    assert "usage: laplace-springs" in err
+    assert "Traceback" not in err
+
+
+# ---------------------------------------------------------------------------- subprocess
+
+
+def _environment() -> dict[str, str]:
+    return {**os.environ, "PYTHONIOENCODING": "utf-8"}
+
+
+def test_python_dash_m_runs_the_command_line():
+    result = subprocess.run([sys.executable, "-m", "laplace_springs", "solve", "vertical-pair",
+                             "--at", "0.5,2"], capture_output=True, text=True, timeout=120,
+                            env=_environment())
+    assert result.returncode == 0, result.stderr
+    _, rows = table(result.stdout)
+    for time, x1, x2 in rows:
+        assert (x1, x2) == pytest.approx(example_1(time), abs=1e-10)
+
+
+def test_installed_entry_point_reports_errors_without_traceback():
+    script = Path(sys.executable).with_name("laplace-springs")
+    command = [str(script)] if script.exists() else [sys.executable, "-m", "laplace_springs"]
+    result = subprocess.run([*command, "solve", "no-such-scene"], capture_output=True,
+                            text=True, timeout=120, env=_environment())
+    assert result.returncode == 2
+    assert result.stdout == ""
+    assert result.stderr.splitlines() == [result.stderr.strip()]
+    assert result.stderr.startswith("laplace-springs: error: unknown scene 'no-such-scene'")
