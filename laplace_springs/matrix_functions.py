@@ -18,6 +18,10 @@ exactly in SymPy:
   formula f(A) = Σ_λ Σ_{k<m_λ} f⁽ᵏ⁾(λ)/k! (A − λI)ᵏ P_λ, real for real A;
 - :func:`first_order_matrix`: the block matrix [[0, I], [−A, −B]] of y = (x, ẋ).
 
+Input matrices must have rational entries. Eigenvalues are listed real ones first,
+ascending, then complex ones by real part and size of imaginary part, α − iβ just
+before α + iβ.
+
 >>> import sympy as sp
 >>> t = sp.Symbol("t")
 >>> A = [[3, -1], [-2, 2]]
@@ -40,7 +44,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from laplace_springs.algebraic import AlgebraicRoot
 from laplace_springs.errors import SceneError
-from laplace_springs.numbers import TIME
+from laplace_springs.numbers import TIME, to_exact
 
 __all__ = [
     "SpectralComponent",
@@ -69,19 +73,24 @@ _T = sp.Dummy("t", real=True)  # time while computing; the caller's t replaces i
 # input
 # ---------------------------------------------------------------------------
 def _as_matrix(matrix: MatrixLike, name: str) -> sp.ImmutableMatrix:
-    """``matrix`` as a square SymPy matrix of exact entries, or a SceneError."""
+    """``matrix`` as a square SymPy matrix of exact entries, or a SceneError.
+
+    Entries go through :func:`laplace_springs.numbers.to_exact`, the project's one
+    door for numbers: a float means its shortest decimal (``0.2`` is ``1/5``) and text
+    is parsed without ``eval``.
+    """
+    rows = matrix.tolist() if isinstance(matrix, sp.MatrixBase) else matrix
     try:
-        out = sp.ImmutableMatrix(matrix)
-    except (TypeError, ValueError, sp.SympifyError) as exc:
-        raise SceneError(f"{name} is not a matrix: {exc}") from exc
-    if not out.is_square or out.rows == 0:
-        raise SceneError(f"{name} must be a non-empty square matrix, got shape {out.shape}")
-    for (i, j), entry in zip(_positions(out), out):
-        if entry.has(sp.Float):
-            raise SceneError(
-                f"entry ({i}, {j}) of {name} is the float {entry}; pass an exact number "
-                f"such as sympy.Rational('{entry}')")
-    return out
+        rows = [list(row) for row in rows]
+    except TypeError as exc:
+        raise SceneError(f"{name} must be a square matrix (a sequence of rows): {exc}") from exc
+    n = len(rows)
+    if n == 0 or any(len(row) != n for row in rows):
+        lengths = sorted({len(row) for row in rows})
+        raise SceneError(f"{name} must be a non-empty square matrix, got {n} rows of "
+                         f"length {', '.join(map(str, lengths)) or 0}")
+    return sp.ImmutableMatrix([[to_exact(value, f"{name}[{i},{j}]") for j, value in enumerate(row)]
+                               for i, row in enumerate(rows)])
 
 
 def _as_rational_matrix(matrix: MatrixLike, name: str) -> sp.ImmutableMatrix:
@@ -90,8 +99,8 @@ def _as_rational_matrix(matrix: MatrixLike, name: str) -> sp.ImmutableMatrix:
     for (i, j), entry in zip(_positions(out), out):
         if not entry.is_Rational:
             raise SceneError(
-                f"entry ({i}, {j}) of {name} is {entry}; Sylvester's formula here needs "
-                "rational entries (substitute numbers for symbols)")
+                f"{name}[{i},{j}] is {entry}; Sylvester's formula here needs rational "
+                "entries (substitute numbers for symbols)")
     return out
 
 
@@ -121,7 +130,7 @@ def first_order_matrix(A: MatrixLike, B: MatrixLike | None = None) -> sp.Immutab
     Raises
     ------
     SceneError
-        If a matrix is not square, the shapes differ, or an entry is a float.
+        If a matrix is not square, the shapes differ, or an entry is not a number.
 
     Examples
     --------
@@ -341,7 +350,8 @@ def _idempotent(psi: sp.Poly, q: sp.Poly, index: int) -> sp.Expr:
     return sp.expand(g * T)
 
 
-def _evaluate_covariant(poly: sp.Poly, powers: list[sp.Matrix], d: int) -> tuple[sp.ImmutableMatrix, ...]:
+def _evaluate_covariant(poly: sp.Poly, powers: list[sp.Matrix], d: int
+                        ) -> tuple[sp.ImmutableMatrix, ...]:
     """Σ c_jl x^j y^l ↦ (M_0, ..., M_{d−1}) with M_l = Σ_j c_jl A^j."""
     n = powers[0].rows
     out = [sp.zeros(n, n) for _ in range(d)]
@@ -403,7 +413,9 @@ def spectral_decomposition(A: MatrixLike) -> tuple[SpectralComponent, ...]:
     Parameters
     ----------
     A : matrix-like, n×n
-        Rational entries (integers, ``Rational``; no floats, no symbols).
+        Rational entries: integers, ``Rational``, ``Fraction``, or floats and text
+        read as the decimals they show (``0.2`` is 1/5, see ``numbers.to_exact``).
+        Symbols and irrational numbers are refused.
 
     Returns
     -------
@@ -429,7 +441,8 @@ def spectral_decomposition(A: MatrixLike) -> tuple[SpectralComponent, ...]:
     from the ranks of q(A)ˢ), the projector is P_y = e(A), where e(x) = g(x)·T(x),
     ψ = (x − y)ᵐ g, and T is the degree < m Taylor polynomial of 1/g about y: that is
     the partial-fraction decomposition 1/ψ = Σ r_i(x)/(x − λ_i)^{m_i} multiplied by ψ.
-    For distinct eigenvalues it reduces to Sylvester's Z_i = Π_{j≠i}(A − λ_j I)/(λ_i − λ_j).
+    For distinct eigenvalues it reduces to Sylvester's
+    Z_i = Π_{j≠i}(A − λ_j I)/(λ_i − λ_j).
     The computation is done once per factor in ℚ[y]/(q(y)), so every root of q gets
     its projector by substitution and entries of a ``CRootOf`` projector are
     polynomials of degree < deg q in that root.
@@ -519,7 +532,10 @@ def _sqrt_family_in_w(kind: str, k: int) -> sp.Expr:
 
 
 def _sqrt_family_at_zero(kind: str, k: int) -> sp.Expr:
-    """The removable value at z = 0: c⁽ᵏ⁾(0)/k! = (−1)ᵏ t²ᵏ/(2k)!, s⁽ᵏ⁾(0)/k! = (−1)ᵏ t²ᵏ⁺¹/(2k+1)!."""
+    """The removable values at z = 0 from the Taylor series in z.
+
+    c⁽ᵏ⁾(0)/k! = (−1)ᵏ t²ᵏ/(2k)! and s⁽ᵏ⁾(0)/k! = (−1)ᵏ t²ᵏ⁺¹/(2k+1)!.
+    """
     power = 2 * k if kind == "cos" else 2 * k + 1
     return (-1) ** k * _T**power / math.factorial(power)
 
@@ -607,7 +623,8 @@ def _terms(A: sp.ImmutableMatrix, derivative: _Derivative, variables: tuple[sp.S
             for basis, M in collected.items() if not M.is_zero_matrix]
 
 
-def _sum(terms: list[tuple[sp.Expr, sp.ImmutableMatrix]], shape: tuple[int, int]) -> sp.ImmutableMatrix:
+def _sum(terms: list[tuple[sp.Expr, sp.ImmutableMatrix]], shape: tuple[int, int]
+         ) -> sp.ImmutableMatrix:
     out = sp.zeros(*shape)
     for basis, matrix in terms:
         out += basis * matrix
@@ -633,7 +650,8 @@ def _prepare(f: FunctionName | Callable[[sp.Expr], sp.Expr], t: sp.Expr | None
 
 
 def matrix_function_terms(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], sp.Expr],
-                          t: sp.Expr | None = None) -> tuple[tuple[sp.Expr, sp.ImmutableMatrix], ...]:
+                          t: sp.Expr | None = None
+                          ) -> tuple[tuple[sp.Expr, sp.ImmutableMatrix], ...]:
     """f(A) as a sum of scalar basis functions times constant real matrices.
 
     The form the seed prints: Ψ(t) = cos t·Z₁ + cos 2t·Z₄, or e^{Bt} = cos t·(2 Re Z_j)
@@ -678,7 +696,7 @@ def matrix_function(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], sp.Expr
     Parameters
     ----------
     A : matrix-like, n×n
-        Rational entries (no floats, no symbols).
+        Rational entries (as in :func:`spectral_decomposition`; no symbols).
     f : {"exp", "cos_sqrt", "sinc_sqrt"} or callable
         See :func:`matrix_function_terms`.
     t : sympy.Expr, optional
@@ -692,7 +710,7 @@ def matrix_function(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], sp.Expr
     Raises
     ------
     SceneError
-        If A is not square or has non-rational entries.
+        If A is not square or has an entry that is not a rational number.
 
     Notes
     -----
@@ -786,9 +804,9 @@ def cos_sqrt(A: MatrixLike, t: sp.Expr | None = None) -> sp.ImmutableMatrix:
 def sinc_sqrt(A: MatrixLike, t: sp.Expr | None = None) -> sp.ImmutableMatrix:
     """Φ(t) = sin(√A t)/√A, the seed's response to initial velocity of ẍ + Ax = 0.
 
-    Uses the entire function s(z) = sin(√z t)/√z = Σ (−1)ⁿ zⁿ t²ⁿ⁺¹/(2n+1)!, so a zero
-    eigenvalue (a rigid-body mode) gives t, and t·P + (−t³/6)·N on a Jordan block;
-    a negative eigenvalue gives sinh(√|λ| t)/√|λ|.
+    Uses the entire function s(z) = sin(√z t)/√z = Σ (−1)ⁿ zⁿ t²ⁿ⁺¹/(2n+1)!, so a
+    zero eigenvalue (a rigid-body mode) gives t, and t·P − (t³/6)·N on a Jordan
+    block; a negative eigenvalue gives sinh(√|λ| t)/√|λ|.
 
     Parameters
     ----------

@@ -344,13 +344,23 @@ def test_callable_with_removable_singularity_uses_the_limit():
 # ==============================================================================
 @pytest.mark.parametrize("bad, match", [
     ([[1, 2, 3], [4, 5, 6]], "square"),
-    ([[0.2, 1], [1, 1]], "float"),
-    ([[sp.Symbol("k"), 1], [1, 1]], "rational"),
+    ([1, 2], "square"),
+    ([], "square"),
+    ([[sp.Symbol("k"), 1], [1, 1]], r"A\[0,0\] is k; .*rational"),
     ([[sp.sqrt(2), 1], [1, 1]], "rational"),
+    ([["abc$", 1], [1, 1]], r"A\[0,0\]: expected a number"),
+    ([[float("nan"), 1], [1, 1]], "finite"),
 ])
 def test_bad_matrices_raise_scene_error(bad, match):
     with pytest.raises(SceneError, match=match):
         expm(bad, t)
+
+
+def test_floats_and_text_mean_their_decimals():
+    # the project's number convention (numbers.to_exact): 0.2 is 1/5, never a binary float
+    U = expm([[0.2]], t)
+    assert U == sp.Matrix([[sp.exp(t / 5)]]) and not U.has(sp.Float)
+    assert sylvester_matrices([["3", -1], [-2, "2.0"]]) == {1: Z1_SEED, 4: Z4_SEED}
 
 
 def test_first_order_matrix_shape_mismatch():
