@@ -69,8 +69,7 @@ def _term(kind: Kind, power: int, alpha, beta, a, b, *, clean: bool = True) -> T
 
 
 def _linear_terms(group: PoleGroup) -> list[Term]:
-    root = -group.factor.nth(0)
-    root = group.factor.domain.to_sympy(root)
+    root = -group.factor.nth(0)  # q = s - root (monic); nth gives a SymPy number
     out = []
     for k, h in enumerate(group.residues, start=1):
         term = _term("real", k - 1, root, 0, h.as_expr() * residue_scale(k), 0)
