@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import sympy
+from sympy.polys.matrices import DomainMatrix
 
 from laplace_springs.errors import SceneError
 from laplace_springs.numbers import to_exact
@@ -142,45 +143,92 @@ def _check_finite(name: str, matrix: sympy.MatrixBase) -> None:
 
 
 def _check_diagonal_masses(M: sympy.MatrixBase) -> None:
+    """The diagonal of M (the masses) is nonnegative; a zero is a massless node."""
     for i in range(M.rows):
         mass = M[i, i]
-        if mass == 0:
+        if mass.is_nonnegative is False:
             raise SceneError(
-                f"mass M[{i},{i}] must be positive, got 0; massless nodes are not supported yet"
+                f"mass M[{i},{i}] must be positive, got {mass}; 0 is allowed for a massless node"
             )
-        if mass.is_positive is False:
-            raise SceneError(f"mass M[{i},{i}] must be positive, got {mass}")
 
 
 def _check_numeric_mass_matrix(M: sympy.MatrixBase) -> None:
-    """Symmetric M: positive definite (exact pivots); otherwise: invertible."""
+    """Symmetric M: positive semi-definite (exact LDLᵀ with diagonal pivoting)."""
     if not M.is_symmetric():
-        if M.det() == 0:
-            raise SceneError(f"M must be invertible, but det(M) = 0 for M = {M.tolist()}")
-        return
+        return  # only the pencil's regularity is required (checked by the caller)
+    _check_diagonal_masses(M)
     work = sympy.Matrix(M)
-    minor = sympy.Integer(1)
-    for k in range(M.rows):  # pivot k is D_k / D_{k-1} (leading principal minors)
+    rest = list(range(M.rows))
+    while rest:
+        k = max(rest, key=lambda i: work[i, i])
         pivot = work[k, k]
-        minor *= pivot
-        if not pivot.is_positive:
+        if pivot < 0 or (pivot == 0 and any(work[i, j] != 0 for i in rest for j in rest)):
             raise SceneError(
-                f"M must be symmetric positive definite, but its leading principal minor of "
-                f"order {k + 1} is {minor} for M = {M.tolist()}"
+                f"M must be symmetric positive semi-definite, but it is indefinite "
+                f"(a pivot {pivot} remains in its LDLᵀ factorisation) for M = {M.tolist()}"
             )
-        for i in range(k + 1, M.rows):
+        if pivot == 0:
+            return
+        rest.remove(k)
+        for i in rest:
             factor = work[i, k] / pivot
-            for j in range(k, M.rows):
+            for j in rest:
                 work[i, j] -= factor * work[k, j]
 
 
-def _check_mass_matrix(M: sympy.MatrixBase) -> None:
+def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> bool:
+    """Whether det(λ²M + λC + K) is not identically zero.
+
+    Δ has degree ≤ 2n, so it vanishes identically iff it vanishes at 2n + 1 rational
+    points; symbols get fixed generic values first, and only if all those points give
+    zero is the symbolic determinant formed.
+    """
+    symbols = sorted(M.free_symbols | C.free_symbols | K.free_symbols, key=lambda s: s.name)
+    generic = {s: sympy.Rational(97 + 13 * i, 89 + 7 * i) for i, s in enumerate(symbols)}
+    for point in range(2 * M.rows + 1):
+        value = sympy.Rational(3 + 2 * point, 7)
+        pencil = (value**2 * M + value * C + K).xreplace(generic)
+        if DomainMatrix.from_Matrix(sympy.Matrix(pencil)).det() != 0:
+            return True
+        if symbols:
+            break
+    if not symbols:
+        return False
+    lam = sympy.Dummy("lambda")
+    return sympy.cancel(sympy.Matrix(lam**2 * M + lam * C + K).det(method="berkowitz")) != 0
+
+
+def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> str:
+    """Why Δ ≡ 0: name a motion that meets no mass, dashpot or spring, when there is one."""
+    text = (
+        "the pencil λ²M + λC + K is singular: det(λ²M + λC + K) is identically zero, so the "
+        "motion is not determined by the equations"
+    )
+    null = sympy.Matrix.vstack(sympy.Matrix(M), sympy.Matrix(C), sympy.Matrix(K)).nullspace()
+    if not null:
+        return text
+    vector = null[0] / next(entry for entry in null[0] if entry != 0)
+    coordinates = [i for i, entry in enumerate(vector) if entry != 0]
+    if len(coordinates) == 1:
+        return f"{text}; coordinate {coordinates[0]} has no mass and no spring or dashpot acting on it"
+    return (
+        f"{text}; the motion along {list(vector)} (coordinates {coordinates}) meets no mass, "
+        "dashpot or spring"
+    )
+
+
+def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> None:
+    """M: nonnegative masses / positive semi-definite; if singular, a regular pencil."""
     if M.is_diagonal():
         _check_diagonal_masses(M)
+        singular = any(M[i, i].is_zero is not False for i in range(M.rows))
     elif not M.free_symbols:
         _check_numeric_mass_matrix(M)
-    elif sympy.cancel(M.det()) == 0:
-        raise SceneError(f"M must be invertible, but det(M) is identically zero for M = {M.tolist()}")
+        singular = M.det() == 0
+    else:
+        singular = sympy.cancel(M.det()) == 0
+    if singular and not _pencil_is_regular(M, C, K):
+        raise SceneError(_singular_pencil_message(M, C, K))
 
 
 def _check_names(names: tuple[str, ...], n: int) -> None:
@@ -223,10 +271,8 @@ def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]]) -> dict[s
         if name in parsed:
             raise SceneError(f"mass {name!r} is given twice")
         mass = to_exact(value, f"mass {name!r}", symbol_assumptions=_PARAMETER)
-        if mass == 0:
-            raise SceneError(f"mass {name!r} must be positive, got 0; massless nodes are not supported yet")
-        if mass.is_positive is False:
-            raise SceneError(f"mass {name!r} must be positive, got {mass}")
+        if mass.is_nonnegative is False:
+            raise SceneError(f"mass {name!r} must be positive, got {mass}; 0 is allowed for a massless node")
         parsed[name] = mass
     if not parsed:
         raise SceneError("a scene needs at least one mass")
@@ -380,7 +426,7 @@ class Scene:
             _check_column(field, getattr(self, field).shape, n)
         for field in ("M", "C", "K", "x0", "v0"):
             _check_finite(field, getattr(self, field))
-        _check_mass_matrix(self.M)
+        _check_mass_matrix(self.M, self.C, self.K)
         if isinstance(self.names, str):
             raise SceneError(f"names must be a sequence of strings, got {self.names!r}")
         object.__setattr__(self, "names", tuple(self.names))
@@ -507,7 +553,9 @@ class Scene:
         ------
         SceneError
             For a non-square or empty ``M``, mismatched shapes, a wrong vector length,
-            non-finite or non-numeric entries, a non-positive mass, or a singular ``M``.
+            non-finite or non-numeric entries, a negative mass, an indefinite symmetric
+            ``M``, or a singular pencil (det(λ²M + λC + K) identically zero). A zero mass
+            is allowed: it is a massless node (see :attr:`Solution.initial_jump`).
 
         Examples
         --------
@@ -520,7 +568,7 @@ class Scene:
         >>> Scene.from_matrices(M=[[1, 0], [0, 0]], x0=[0, 0], v0=[0, 0])
         Traceback (most recent call last):
         ...
-        laplace_springs.errors.SceneError: mass M[1,1] must be positive, got 0; massless nodes are not supported yet
+        laplace_springs.errors.SceneError: the pencil λ²M + λC + K is singular: ...; coordinate 1 has no mass and no spring or dashpot acting on it
         """
         mass = _exact_matrix(M, "M", _PARAMETER)
         n = mass.rows
@@ -605,7 +653,8 @@ class Scene:
         SceneError
             For an unknown node, a component from a node to itself or between two
             supports, a negative stiffness or damping, a duplicate label or mass
-            name, or a non-positive mass.
+            name, a negative mass, or a singular pencil (a massless node with no spring
+            or dashpot). A mass of 0 is a massless node.
 
         Examples
         --------
