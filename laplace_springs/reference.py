@@ -138,33 +138,53 @@ def _arb_matrix(matrix: sp.MatrixBase, digits: int):
     return arb_mat(matrix.rows, matrix.cols, entries)
 
 
-def first_order_matrix_arb(scene, digits: int):
-    """Z = [[0, I], [-M⁻¹K, -M⁻¹C]] as a flint arb_mat at the current flint precision.
+def first_order_system(scene) -> tuple[sp.Matrix, sp.Matrix, int]:
+    """Exact y' = Z y, y(0) = y0 whose first n entries are x, for a numeric scene.
 
-    Rational scenes are formed exactly (M⁻¹ over ℚ) and only then rounded; other
-    numeric entries are read at ``digits`` decimal digits.
+    With invertible M this is Z = [[0, I], [-M⁻¹K, -M⁻¹C]], y = [x; x'].
+    Massless nodes (indices z whose row and column of M are zero) are reduced: their
+    velocity follows from their equations, C_zz x_z' = -(K x)_z - C_zm x_m', so the
+    state is y = [x; x_m'] with the massive velocities only (Maxwell elements and other
+    nodes held by a dashpot). Their given v0 entries play no role, as in X(λ).
+
+    Returns
+    -------
+    (Z, y0, n) : exact SymPy matrices and the number of coordinates.
+
+    Raises
+    ------
+    SceneError
+        For massless nodes without an invertible dashpot block C_zz, or singular M on
+        the other nodes.
     """
-    from flint import arb_mat
-
     from .errors import SceneError
 
+    M, C, K = (sp.Matrix(m) for m in (scene.M, scene.C, scene.K))
     n = scene.n
-    M, K, C = (_exact_rational_matrix(m) for m in (scene.M, scene.K, scene.C))
+    z = [i for i in range(n) if all(M[i, j] == 0 and M[j, i] == 0 for j in range(n))]
+    m = [i for i in range(n) if i not in z]
+    everything = list(range(n))
     try:
-        if None not in (M, K, C):
-            Minv = M.inv()
-            A, B = arb_mat(Minv * K), arb_mat(Minv * C)
-        else:
-            Minv = _arb_matrix(scene.M, digits).inv()
-            A, B = Minv * _arb_matrix(scene.K, digits), Minv * _arb_matrix(scene.C, digits)
-    except ZeroDivisionError:
-        raise SceneError("reference_motion_arb needs an invertible mass matrix M") from None
-    Z = arb_mat(2 * n, 2 * n)
-    for i in range(n):
-        Z[i, n + i] = 1
-        for j in range(n):
-            Z[n + i, j], Z[n + i, n + j] = -A[i, j], -B[i, j]
-    return Z
+        Mmm_inv = M.extract(m, m).inv() if m else sp.zeros(0, 0)
+        Czz_inv = C.extract(z, z).inv() if z else sp.zeros(0, 0)
+    except ValueError:  # SymPy: "Matrix det == 0; not invertible."
+        raise SceneError("first_order_system needs an invertible mass block and, for "
+                         "massless nodes, an invertible dashpot block C_zz") from None
+    # x_z' = P x + Q v_m
+    P = -Czz_inv * K.extract(z, everything)
+    Q = -Czz_inv * C.extract(z, m)
+    Cmz = C.extract(m, z)
+    Avel = -Mmm_inv * (K.extract(m, everything) + Cmz * P)   # v_m' = Avel x + Bvel v_m
+    Bvel = -Mmm_inv * (C.extract(m, m) + Cmz * Q)
+    size = n + len(m)
+    Z = sp.zeros(size, size)
+    for row, i in enumerate(m):
+        Z[i, n + row] = 1
+    for row, i in enumerate(z):
+        Z[i, :n], Z[i, n:] = P[row, :], Q[row, :]
+    Z[n:, :n], Z[n:, n:] = Avel, Bvel
+    y0 = sp.Matrix([*scene.x0, *[scene.v0[i] for i in m]])
+    return Z, y0, n
 
 
 def _arb_to_mpf(value) -> mpmath.mpf:
@@ -174,9 +194,8 @@ def _arb_to_mpf(value) -> mpmath.mpf:
 
 def _arb_motion(scene, times: Sequence, digits: int) -> tuple[list[list], float]:
     """Midpoints of x(t) and the largest radius relative to max |x|, at the current precision."""
-    n = scene.n
-    Z = first_order_matrix_arb(scene, digits + 20)
-    y0 = _arb_matrix(sp.Matrix([*scene.x0, *scene.v0]), digits + 20)
+    Z, y0, n = first_order_system(scene)
+    Z, y0 = _arb_matrix(Z, digits + 20), _arb_matrix(y0, digits + 20)
     balls = [[None] * len(times) for _ in range(n)]
     for col, tv in enumerate(times):
         y = (Z * _arb_time(tv)).exp() * y0
@@ -202,7 +221,8 @@ def reference_motion_arb(scene, times: Sequence, digits: int = 60,
     Parameters
     ----------
     scene : Scene
-        A numeric scene with invertible M (rational entries are used exactly).
+        A numeric scene with invertible M, or massless nodes held by dashpots (see
+        :func:`first_order_system`); rational entries are used exactly.
     times : sequence
         Times: floats and mpmath numbers are read exactly (their binary value), strings
         as decimal numbers.
@@ -242,4 +262,4 @@ def reference_motion_arb(scene, times: Sequence, digits: int = 60,
 
 
 __all__.append("reference_motion_arb")
-__all__.append("first_order_matrix_arb")
+__all__.append("first_order_system")
