@@ -686,6 +686,16 @@ class Scene:
             mass_names=mass_names,
         )
 
+    # -- drawing ------------------------------------------------------------
+    def draw(self, ax: Any = None, **kw: Any) -> Any:
+        """Draw the scene like the seed's figures; see :func:`laplace_springs.drawing.draw_scene`.
+
+        Returns the matplotlib Axes. Needs matplotlib (the ``plots`` extra).
+        """
+        from laplace_springs.drawing import draw_scene
+
+        return draw_scene(self, ax, **kw)
+
 
 def _optional_matrix(
     value: Any, name: str, reference: sympy.ImmutableMatrix, reference_name: str

@@ -1,0 +1,485 @@
+"""Plots of a solution: motion, phase portraits, energy, frequency response.
+
+:func:`plot_motion` is the seed's "Mass Position vs. Time" figure (Example 5): one
+line per mass, a legend, axis labels with units. :func:`plot_phase` draws each
+coordinate's phase portrait (x_i against v_i). :func:`plot_energy` draws kinetic
+energy ½vᵀMv, potential energy ½xᵀKx, the energy dissipated by the dashpots
+∫vᵀCv dt, and their sum, which stays at the initial energy: damping only removes
+energy. :func:`plot_frequency_response` draws the steady-state amplitude of each
+mass under a harmonic force, against the forcing frequency.
+
+Velocities come from the exact terms: each real term t^p e^{αt}(a cos βt + b sin βt)
+is differentiated exactly (:func:`velocity_terms`), so no finite differences enter
+the phase portraits or the energies. The dissipated energy is integrated with
+three-point Gauss-Legendre on each sampling interval (sixth order).
+
+All functions draw on given axes or, without them, on a new pyplot figure; the
+command line uses :func:`overview_figure`, which needs no pyplot backend.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import sympy as sp
+
+from .drawing import math_label, physical_matrices
+from .errors import SceneError
+from .evaluate import evaluate_float, numeric_terms
+from .real_terms import Term
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .scene import Scene
+    from .solution import Solution
+
+__all__ = [
+    "velocity_terms", "time_grid", "default_t_end", "motion", "Energy", "energy",
+    "plot_motion", "plot_phase", "plot_energy", "plot_frequency_response", "overview_figure",
+]
+
+LINE_WIDTH = 2.2
+
+
+# ----------------------------------------------------------------------------
+# Numbers behind the plots
+# ----------------------------------------------------------------------------
+
+
+def _derivative(term: Term) -> list[Term]:
+    """The exact derivative of one real term, as real terms of the same kind."""
+    p, alpha, beta, a, b = term.power, term.alpha, term.beta, term.a, term.b
+    out = []
+    if p:
+        out.append(Term(term.kind, p - 1, alpha, beta, p * a, p * b))
+    if term.kind == "real":
+        out.append(Term("real", p, alpha, beta, alpha * a, sp.Integer(0)))
+    elif term.kind == "oscillatory":  # (a cos + b sin)' = β(b cos − a sin)
+        out.append(Term(term.kind, p, alpha, beta, alpha * a + beta * b, alpha * b - beta * a))
+    else:  # (a cosh + b sinh)' = σ(b cosh + a sinh)
+        out.append(Term(term.kind, p, alpha, beta, alpha * a + beta * b, alpha * b + beta * a))
+    return out
+
+
+def velocity_terms(solution: Solution) -> tuple[tuple[Term, ...], ...]:
+    """The exact terms of v(t) = x'(t), one tuple per coordinate.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
+    >>> sp.simplify(sum(term.as_expr(ls.t) for term in velocity_terms(sol)[0]))
+    -2*sin(2*t)
+    """
+    return tuple(tuple(d for term in row for d in _derivative(term)) for row in solution.terms)
+
+
+def _check_numeric(scene: Scene) -> None:
+    if scene.free_symbols:
+        names = ", ".join(sorted(symbol.name for symbol in scene.free_symbols))
+        raise SceneError(f"plots need numbers, but the scene has symbols {names}; "
+                         "substitute values first")
+
+
+def _float_matrix(matrix: sp.MatrixBase) -> np.ndarray:
+    return np.array([[float(entry) for entry in row] for row in matrix.tolist()], dtype=float)
+
+
+def _rates_and_frequencies(solution: Solution) -> tuple[np.ndarray, np.ndarray]:
+    """Exponential rates α and angular frequencies β of the solution's terms (float64)."""
+    _check_numeric(solution.scene)
+    rate, frequency, _, _ = numeric_terms(solution.terms, dps=20).as_float()
+    return rate, np.abs(frequency)
+
+
+def _nice(value: float) -> float:
+    """The smallest of 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 × 10^k that is ≥ value."""
+    exponent = math.floor(math.log10(value))
+    for mantissa in (1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10):
+        if mantissa * 10.0**exponent >= value * (1 - 1e-12):
+            return mantissa * 10.0**exponent
+    return 10.0 ** (exponent + 1)  # pragma: no cover
+
+
+def default_t_end(solution: Solution) -> float:
+    """A time span that shows the motion: a few slow periods, or until it has decayed.
+
+    Read off the solution's own terms t^p e^{αt}(a cos βt + b sin βt). Undamped: four
+    periods of the slowest oscillation. Damped: three decay times 1/|α| of the
+    slowest-decaying term, but at most twelve periods of the slowest oscillation.
+    Rounded up to a round number (1, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a power of ten).
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> default_t_end(ls.solve(ls.load_scene("three-dashpots")))  # the seed plots 0 to 4 s
+    5.0
+    """
+    rates, frequencies = _rates_and_frequencies(solution)
+    scale = max(1.0, float(np.max(np.hypot(rates, frequencies), initial=0.0)))
+    oscillating = frequencies > 1e-9 * scale
+    slowest_period = 2 * math.pi / frequencies[oscillating].min() if oscillating.any() else None
+    decaying = rates < -1e-9 * scale
+    if rates.size and decaying.all():
+        span = 3.0 / -rates.max()
+        if slowest_period is not None:
+            span = min(span, 12 * slowest_period)
+    elif slowest_period is not None:
+        span = 4 * slowest_period
+    else:
+        span = 10.0
+    return _nice(span)
+
+
+def time_grid(solution: Solution, t_end: float | None = None, samples: int = 800) -> np.ndarray:
+    """Sample times from 0 to ``t_end``: at least ``samples``, and 40 per fastest period."""
+    t_end = default_t_end(solution) if t_end is None else float(t_end)
+    if not t_end > 0:
+        raise ValueError(f"t_end must be positive, got {t_end}")
+    _, frequencies = _rates_and_frequencies(solution)
+    fastest = float(np.max(frequencies, initial=0.0))
+    per_period = int(40 * t_end * fastest / (2 * math.pi)) + 1
+    return np.linspace(0.0, t_end, min(max(samples, per_period), 200_000))
+
+
+def motion(solution: Solution, times: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and velocities at ``times`` in float64, each of shape (n, len(times)).
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[0], v0=[1]))
+    >>> x, v = motion(sol, [0.0, math.pi / 2])
+    >>> np.round(x, 12).tolist(), np.round(v, 12).tolist()
+    ([[0.0, 1.0]], [[1.0, 0.0]])
+    """
+    _check_numeric(solution.scene)
+    times = np.atleast_1d(np.asarray(times, dtype=float))
+    n = solution.scene.n
+    velocities = evaluate_float(_velocity_data(solution), n, times)
+    return solution.evaluate(times), velocities
+
+
+_VELOCITIES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _velocity_data(solution: Solution):
+    """Numeric velocity terms, computed once per solution."""
+    if solution not in _VELOCITIES:
+        _VELOCITIES[solution] = numeric_terms(velocity_terms(solution), dps=40)
+    return _VELOCITIES[solution]
+
+
+@dataclass(frozen=True)
+class Energy:
+    """Energies along a solution, arrays over :attr:`times`.
+
+    Attributes
+    ----------
+    times : numpy.ndarray
+    kinetic : numpy.ndarray
+        ½ vᵀ M v.
+    potential : numpy.ndarray
+        ½ xᵀ K x.
+    dissipated : numpy.ndarray
+        ∫₀ᵗ vᵀ C v dt, the work done against the dashpots (non-decreasing).
+    """
+
+    times: np.ndarray
+    kinetic: np.ndarray
+    potential: np.ndarray
+    dissipated: np.ndarray
+
+    @property
+    def mechanical(self) -> np.ndarray:
+        """Kinetic plus potential energy (non-increasing under damping)."""
+        return self.kinetic + self.potential
+
+    @property
+    def total(self) -> np.ndarray:
+        """Mechanical plus dissipated energy: constant, the initial energy."""
+        return self.mechanical + self.dissipated
+
+
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
+
+
+def _quadratic(matrix: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """vᵀ A v for each column v."""
+    return np.einsum("it,ij,jt->t", vectors, matrix, vectors)
+
+
+def energy(solution: Solution, times: Any) -> Energy:
+    """Kinetic, potential and dissipated energy at ``times`` (increasing, from 0).
+
+    A scene given in the seed's normalised form with a non-symmetric A is first
+    rescaled to symmetric M, K (see :func:`laplace_springs.drawing.physical_matrices`),
+    so that the energy is the physical one up to a common factor.
+
+    Examples
+    --------
+    The seed's Example 5 loses energy to its three dashpots but none goes missing:
+
+    >>> import laplace_springs as ls
+    >>> sol = ls.solve(ls.load_scene("three-dashpots"))
+    >>> e = energy(sol, np.linspace(0, 4, 401))
+    >>> bool(np.all(np.diff(e.mechanical) <= 1e-12))
+    True
+    >>> float(abs(e.total - e.total[0]).max() / e.total[0]) < 1e-9
+    True
+    """
+    times = np.atleast_1d(np.asarray(times, dtype=float))
+    if times[0] != 0 or np.any(np.diff(times) <= 0):
+        raise ValueError("energy needs increasing times starting at 0")
+    M, C, K = (_float_matrix(m) for m in physical_matrices(solution.scene))
+    x, v = motion(solution, times)
+    starts, widths = times[:-1], np.diff(times)
+    nodes = (starts[:, None] + 0.5 * widths[:, None] * (1 + _GAUSS_NODES[None, :])).ravel()
+    _, v_nodes = motion(solution, nodes)
+    power = _quadratic(C, v_nodes).reshape(len(starts), 3)
+    steps = 0.5 * widths * (power @ _GAUSS_WEIGHTS)
+    dissipated = np.concatenate([[0.0], np.cumsum(steps)])
+    return Energy(times, 0.5 * _quadratic(M, v), 0.5 * _quadratic(K, x), dissipated)
+
+
+# ----------------------------------------------------------------------------
+# Plots
+# ----------------------------------------------------------------------------
+
+
+def _axes(ax: Axes | None, size: tuple[float, float] = (8.0, 4.5)) -> Axes:
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(figsize=size)[1]
+
+
+def _legend_names(scene: Scene) -> list[str]:
+    """``Mass 1: x₁(t)`` for each coordinate, as in the seed's legend ("Mass 1")."""
+    return [f"Mass {i + 1}: {math_label(coordinate)[:-1]}(t)$"
+            for i, coordinate in enumerate(scene.names)]
+
+
+def _title(ax: Axes, heading: str, scene: Scene, title: str | bool) -> None:
+    if title is True:
+        text = heading + (f"\n{scene.title}" if scene.title else "")
+    else:
+        text = title or ""
+    ax.set_title(text)
+
+
+def plot_motion(solution: Solution, ax: Axes | None = None, *, t_end: float | None = None,
+                samples: int = 800, time_unit: str = "s", length_unit: str = "m",
+                title: str | bool = True) -> Axes:
+    """The seed's "Mass Position vs. Time" plot: x_i(t) for each mass.
+
+    Parameters
+    ----------
+    solution : Solution
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; a new figure when omitted.
+    t_end : float, optional
+        Last time; :func:`default_t_end` when omitted.
+    samples : int
+        Minimum number of sample times (more for fast oscillations).
+    time_unit, length_unit : str
+        Units in the axis labels ("Time (s)", "Position (m)").
+    title : str or bool
+        True for "Mass Position vs. Time" and the scene's title.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import laplace_springs as ls
+    >>> ax = plot_motion(ls.solve(ls.load_scene("three-dashpots")), Figure().subplots())
+    >>> ax.get_xlabel(), ax.get_ylabel(), [t.get_text() for t in ax.get_legend().texts]
+    ('Time (s)', 'Position (m)', ['Mass 1: $x_{1}(t)$', 'Mass 2: $x_{2}(t)$'])
+    """
+    ax = _axes(ax)
+    times = time_grid(solution, t_end, samples)
+    positions = solution.evaluate(times)
+    for row, name in zip(positions, _legend_names(solution.scene)):
+        ax.plot(times, row, linewidth=LINE_WIDTH, label=name)
+    ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    ax.set_xlim(times[0], times[-1])
+    ax.set_xlabel(f"Time ({time_unit})")
+    ax.set_ylabel(f"Position ({length_unit})")
+    ax.legend(loc="upper right")
+    ax.grid(alpha=0.3)
+    _title(ax, "Mass Position vs. Time", solution.scene, title)
+    return ax
+
+
+def plot_phase(solution: Solution, ax: Axes | None = None, *, t_end: float | None = None,
+               samples: int = 800, coordinates: Sequence[int] | None = None,
+               time_unit: str = "s", length_unit: str = "m", title: str | bool = True) -> Axes:
+    """Phase portraits: velocity x_i'(t) against position x_i(t), from a dot at t = 0.
+
+    Parameters
+    ----------
+    coordinates : sequence of int, optional
+        Which coordinates (0-based); all when omitted.
+
+    Other parameters are those of :func:`plot_motion`.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import laplace_springs as ls
+    >>> ax = plot_phase(ls.solve(ls.load_scene("wall-pair-dashpot")), Figure().subplots())
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('Position (m)', 'Velocity (m/s)')
+    """
+    ax = _axes(ax, (6.0, 5.0))
+    times = time_grid(solution, t_end, samples)
+    x, v = motion(solution, times)
+    names = _legend_names(solution.scene)
+    chosen = range(solution.scene.n) if coordinates is None else coordinates
+    for i in chosen:
+        (line,) = ax.plot(x[i], v[i], linewidth=1.6, label=names[i])
+        ax.plot(x[i, 0], v[i, 0], "o", color=line.get_color(), markersize=7)
+    ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    ax.set_xlabel(f"Position ({length_unit})")
+    ax.set_ylabel(f"Velocity ({length_unit}/{time_unit})")
+    ax.legend(loc="upper right")
+    ax.grid(alpha=0.3)
+    _title(ax, "Phase portrait (dot: t = 0)", solution.scene, title)
+    return ax
+
+
+def plot_energy(solution: Solution, ax: Axes | None = None, *, t_end: float | None = None,
+                samples: int = 800, time_unit: str = "s", energy_unit: str = "J",
+                title: str | bool = True) -> Axes:
+    """Kinetic, potential and dissipated energy over time, and their constant sum.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import laplace_springs as ls
+    >>> ax = plot_energy(ls.solve(ls.load_scene("vertical-pair-damped")), Figure().subplots())
+    >>> [t.get_text() for t in ax.get_legend().texts]
+    ['kinetic ½vᵀMv', 'potential ½xᵀKx', 'dissipated ∫vᵀCv dt', 'total']
+    """
+    ax = _axes(ax)
+    times = time_grid(solution, t_end, samples)
+    e = energy(solution, times)
+    ax.plot(times, e.kinetic, linewidth=1.4, label="kinetic ½vᵀMv")
+    ax.plot(times, e.potential, linewidth=1.4, label="potential ½xᵀKx")
+    ax.plot(times, e.dissipated, linewidth=LINE_WIDTH, label="dissipated ∫vᵀCv dt")
+    ax.plot(times, e.total, "k--", linewidth=LINE_WIDTH, label="total")
+    ax.set_xlim(times[0], times[-1])
+    ax.set_ylim(bottom=0.0)
+    ax.set_xlabel(f"Time ({time_unit})")
+    ax.set_ylabel(f"Energy ({energy_unit})")
+    ax.legend(loc="center right")
+    ax.grid(alpha=0.3)
+    _title(ax, "Energy", solution.scene, title)
+    return ax
+
+
+def _receptance(scene: Scene, omegas: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """|(K − ω²M + iωC)⁻¹ f| for each ω; shape (n, len(omegas))."""
+    M, C, K = (_float_matrix(m) for m in (scene.M, scene.C, scene.K))
+    out = np.empty((scene.n, omegas.size))
+    for j, omega in enumerate(omegas):
+        out[:, j] = np.abs(np.linalg.solve(K - omega**2 * M + 1j * omega * C, force))
+    return out
+
+
+def natural_frequencies(scene: Scene) -> np.ndarray:
+    """Undamped natural frequencies √eig(M⁻¹K), rad per time unit, ascending."""
+    M, K = _float_matrix(scene.M), _float_matrix(scene.K)
+    try:
+        values = np.linalg.eigvals(np.linalg.solve(M, K)).real
+    except np.linalg.LinAlgError:  # massless nodes: no inverse of M
+        return np.array([])
+    return np.sort(np.sqrt(np.clip(values, 0.0, None)))
+
+
+def plot_frequency_response(scene: Scene, ax: Axes | None = None, *,
+                            force: Sequence[float] | None = None,
+                            omega: Sequence[float] | None = None, time_unit: str = "s",
+                            length_unit: str = "m", force_unit: str = "N",
+                            title: str | bool = True) -> Axes:
+    """Steady-state amplitude |X_i(ω)| of each mass under a force f cos ωt.
+
+    The amplitude is |(K − ω²M + iωC)⁻¹ f| per unit force; the dotted lines mark the
+    undamped natural frequencies, where an undamped system resonates.
+
+    Parameters
+    ----------
+    scene : Scene
+    ax : matplotlib.axes.Axes, optional
+    force : sequence of float, optional
+        The force amplitudes on each coordinate; a unit force on the first mass
+        when omitted.
+    omega : sequence of float, optional
+        Angular frequencies; up to twice the highest natural frequency when omitted.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import laplace_springs as ls
+    >>> ax = plot_frequency_response(ls.load_scene("three-dashpots"), Figure().subplots())
+    >>> ax.get_yscale(), ax.get_xlabel()
+    ('log', 'Forcing frequency ω (rad/s)')
+    """
+    _check_numeric(scene)
+    ax = _axes(ax)
+    naturals = natural_frequencies(scene)
+    if force is None:
+        force = np.eye(scene.n)[0]
+    force = np.asarray(force, dtype=float)
+    if force.shape != (scene.n,):
+        raise ValueError(f"force has {force.size} entries, expected {scene.n}")
+    top = 2.0 * max(float(naturals.max(initial=0.0)), 1e-3)
+    omegas = np.asarray(omega, dtype=float) if omega is not None else np.linspace(0.0, top, 2000)
+    amplitudes = _receptance(scene, omegas, force)
+    for row, name in zip(amplitudes, _legend_names(scene)):
+        ax.plot(omegas, row, linewidth=LINE_WIDTH, label=name.replace("(t)", ""))
+    for value in naturals:
+        ax.axvline(value, color="0.5", linestyle=":", linewidth=1.2)
+    ax.set_yscale("log")
+    ax.set_xlim(omegas[0], omegas[-1])
+    ax.set_xlabel(f"Forcing frequency ω (rad/{time_unit})")
+    ax.set_ylabel(f"Amplitude per unit force ({length_unit}/{force_unit})")
+    ax.legend(loc="upper right")
+    ax.grid(alpha=0.3, which="both")
+    _title(ax, "Frequency response (dotted: undamped natural frequencies)", scene, title)
+    return ax
+
+
+def overview_figure(solution: Solution, *, t_end: float | None = None) -> Figure:
+    """A figure with the scene's diagram above its motion plot (the CLI's ``--plot``).
+
+    Built on :class:`matplotlib.figure.Figure`, without pyplot, so it needs no
+    display; save it with ``figure.savefig(path)``. Scenes that cannot be drawn get
+    the motion plot alone.
+    """
+    from matplotlib.figure import Figure
+
+    from .drawing import draw_scene
+
+    figure = Figure(figsize=(9.0, 9.0), layout="constrained")
+    top, bottom = figure.subfigures(2, 1, height_ratios=(1.0, 1.1))
+    ax = top.subplots()
+    try:
+        draw_scene(solution.scene, ax, title=True)
+    except SceneError as exc:
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, f"(no diagram: {exc})", ha="center", va="center", wrap=True)
+    plot_motion(solution, bottom.subplots(), t_end=t_end, title="Mass Position vs. Time")
+    return figure
