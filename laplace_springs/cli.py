@@ -7,6 +7,7 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
     laplace-springs solve vertical-pair
     laplace-springs solve vertical-pair --latex
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
+    laplace-springs solve three-dashpots --plot motion.png
     laplace-springs scenes
 
 Errors (a bad scene file, an unknown scene, a bad option value) are reported as one
@@ -64,6 +65,8 @@ def _build_parser() -> argparse.ArgumentParser:
                         help="print a table of values at these times (t >= 0)")
     solve.add_argument("--dps", type=int, metavar="N",
                        help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
+    solve.add_argument("--plot", metavar="FILE",
+                       help="also save the scene's diagram and its motion to FILE (.png, .pdf, .svg)")
     solve.set_defaults(run=_run_solve)
 
     scenes = commands.add_parser("scenes", help="list the bundled scenes",
@@ -181,6 +184,8 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     times = parse_times(args.at) if args.at is not None else None
     scene = ls.load_scene(args.scene)
     solution = ls.solve(scene)
+    if args.plot:
+        _save_plot(solution, args.plot)
     if args.latex:
         print(solution.latex(), file=out)
         return
@@ -191,6 +196,15 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     else:
         lines += _formula_lines(scene, solution, pretty=args.pretty)
     print("\n".join(lines), file=out)
+
+
+def _save_plot(solution: Solution, path: str) -> None:
+    """Write the diagram and motion plot (no display needed)."""
+    try:
+        from laplace_springs.plotting import overview_figure
+    except ImportError as exc:
+        raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
+    overview_figure(solution).savefig(path, dpi=100)
 
 
 def _run_scenes(args: argparse.Namespace, out: TextIO) -> None:

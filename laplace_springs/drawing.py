@@ -35,6 +35,7 @@ positive off-diagonal stiffness, an unsymmetrisable A) raises
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -609,7 +610,10 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, show_values: bool = Fals
         _draw_bridges(canvas, slots.bridges, starts, style)
     _finish(ax, limits)
     if title:
-        ax.set_title(scene.title if title is True else title, fontsize=0.8 * label_size)
+        text = scene.title if title is True else title
+        if not horizontal:  # a tall, narrow drawing: wrap a long title
+            text = textwrap.fill(text, 30)
+        ax.set_title(text, fontsize=0.8 * label_size)
     return ax
 
 

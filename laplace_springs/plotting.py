@@ -473,11 +473,15 @@ def overview_figure(solution: Solution, *, t_end: float | None = None) -> Figure
 
     from .drawing import draw_scene
 
-    figure = Figure(figsize=(9.0, 9.0), layout="constrained")
-    top, bottom = figure.subfigures(2, 1, height_ratios=(1.0, 1.1))
+    if solution.scene.layout == "vertical":  # a tall diagram beside the plot
+        figure = Figure(figsize=(13.0, 6.0), layout="constrained")
+        top, bottom = figure.subfigures(1, 2, width_ratios=(1.0, 2.6))
+    else:
+        figure = Figure(figsize=(9.0, 7.0), layout="constrained")
+        top, bottom = figure.subfigures(2, 1, height_ratios=(1.0, 2.2))
     ax = top.subplots()
     try:
-        draw_scene(solution.scene, ax, title=True)
+        draw_scene(solution.scene, ax, title=True, label_size=13)
     except SceneError as exc:
         ax.set_axis_off()
         ax.text(0.5, 0.5, f"(no diagram: {exc})", ha="center", va="center", wrap=True)

@@ -132,3 +132,14 @@ def test_symbolic_scene_cannot_be_plotted():
     sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[k]], x0=[1], v0=[0]))
     with pytest.raises(ls.SceneError, match="symbols k"):
         plot_motion(sol, _axes())
+
+
+def test_cli_plot_writes_a_png(tmp_path, capsys):
+    from laplace_springs.cli import main
+
+    path = tmp_path / "motion.png"
+    assert main(["solve", "wall-pair", "--plot", str(path)]) == 0
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "x1(t) =" in capsys.readouterr().out  # the formula is still printed
+    assert main(["solve", "wall-pair", "--plot", str(tmp_path / "missing" / "x.png")]) == 2
+    assert "No such file" in capsys.readouterr().err
