@@ -9,6 +9,7 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
     laplace-springs solve three-dashpots --plot motion.png
     laplace-springs scenes
+    laplace-springs bench --quick -o bench-out
 
 Errors (a bad scene file, an unknown scene, a bad option value) are reported as one
 line ``laplace-springs: error: ...`` on stderr with exit status 2, like argparse's own
@@ -72,6 +73,7 @@ def _build_parser() -> argparse.ArgumentParser:
     scenes = commands.add_parser("scenes", help="list the bundled scenes",
                                  description="List the bundled scenes: name and title.")
     scenes.set_defaults(run=_run_scenes)
+    _add_bench_command(commands)
     return parser
 
 
@@ -205,6 +207,54 @@ def _save_plot(solution: Solution, path: str) -> None:
     except ImportError as exc:
         raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
     overview_figure(solution).savefig(path, dpi=100)
+
+
+def _add_bench_command(commands) -> None:
+    """``laplace-springs bench``: error against run time (see laplace_springs.benchmark)."""
+    bench = commands.add_parser(
+        "bench", help="error against run time: our routes and the peers on the battery",
+        description="Measure error (against a 60-digit reference) and run time of every "
+                    "method on every battery scene; write report.md, results.csv and "
+                    "plots/<scene>.png, and print the Pareto verdicts.")
+    bench.add_argument("-o", "--out", default="bench-out", metavar="DIR",
+                       help="output directory (default: bench-out)")
+    bench.add_argument("--scenes", metavar="PATTERNS",
+                       help="comma-separated glob patterns of battery scene names")
+    bench.add_argument("--methods", metavar="PATTERNS",
+                       help="comma-separated glob patterns of method names (e.g. 'ours*,ivp-*')")
+    bench.add_argument("--quick", action="store_true",
+                       help="a smaller method set (one tolerance per solver, no SymPy)")
+    bench.add_argument("--large", action="store_true", help="include the battery's large scenes")
+    bench.add_argument("--time-limit", type=float, default=2.0, metavar="SECONDS",
+                       help="per-run limit of a peer (default 2; raised where ours is slower)")
+    bench.add_argument("--sympy-limit", type=float, default=10.0, metavar="SECONDS",
+                       help="limit of SymPy's inversion per scene (default 10)")
+    bench.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    bench.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    bench.add_argument("--list", action="store_true", help="list scenes and methods, run nothing")
+
+    def run(args: argparse.Namespace, out: TextIO) -> None:
+        from laplace_springs import benchmark as bm
+
+        if args.time_limit <= 0 or args.sympy_limit <= 0:
+            raise ValueError("--time-limit and --sympy-limit must be positive")
+        split = (lambda text: [p.strip() for p in text.split(",") if p.strip()] if text else None)
+        if args.list:
+            cases = bm.default_cases(large=args.large)
+            print("scenes: " + ", ".join(case.name for case in cases), file=out)
+            methods = bm.select_methods(quick=args.quick)
+            print("methods: " + ", ".join(m.name for m in methods), file=out)
+            return
+        settings = bm.BenchSettings(time_limit=args.time_limit, sympy_limit=args.sympy_limit)
+        result = bm.run_benchmark(methods=split(args.methods), scenes=split(args.scenes),
+                                  out_dir=args.out, quick=args.quick, large=args.large,
+                                  settings=settings, progress=not args.no_progress,
+                                  plots=not args.no_plots)
+        lines = bm.summary_lines(result) + [f"wrote {path}" for key, path in result.files.items()
+                                            if not key.startswith("plot:")]
+        print("\n".join(lines), file=out)
+
+    bench.set_defaults(run=run)
 
 
 def _run_scenes(args: argparse.Namespace, out: TextIO) -> None:
