@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy as sp
 
+from .algebraic import numeric_value
 from .drawing import math_label, physical_matrices
 from .errors import SceneError
 from .evaluate import evaluate_float, numeric_terms
@@ -95,8 +96,17 @@ def _float_matrix(matrix: sp.MatrixBase) -> np.ndarray:
 def _rates_and_frequencies(solution: Solution) -> tuple[np.ndarray, np.ndarray]:
     """Exponential rates α and angular frequencies β of the solution's terms (float64)."""
     _check_numeric(solution.scene)
-    rate, frequency, _, _ = numeric_terms(solution.terms, dps=20).as_float()
-    return rate, np.abs(frequency)
+    rates, frequencies = [], []
+    for term in (term for row in solution.terms for term in row):
+        alpha = float(sp.re(numeric_value(term.alpha, 20)))
+        beta = float(abs(sp.re(numeric_value(term.beta, 20)))) if term.kind != "real" else 0.0
+        if term.kind == "hyperbolic":  # e^{αt} cosh σt: the real rates α ± σ
+            rates += [alpha + beta, alpha - beta]
+            frequencies += [0.0, 0.0]
+        else:
+            rates.append(alpha)
+            frequencies.append(beta)
+    return np.array(rates, dtype=float), np.array(frequencies, dtype=float)
 
 
 def _nice(value: float) -> float:
