@@ -36,7 +36,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from .algebraic import numeric_value
+from .mp_expr import mp_value
 from .pole_sum import Block, PoleSum, evaluate_blocks, plan_blocks
 from .real_terms import Term
 
@@ -45,15 +45,6 @@ __all__ = ["NumericTerms", "numeric_terms", "evaluate_float", "evaluate_mp"]
 #: Float64 columns whose estimated error exceeds this, relative to max |x|, are redone in mpmath.
 FALLBACK_TOLERANCE = 1e-13
 _EPS = np.finfo(float).eps
-
-
-def _mp_value(expr: sp.Expr, dps: int) -> mpmath.mpf:
-    """An exact real expression as an mpmath number at ``dps`` digits."""
-    value = numeric_value(expr, dps)
-    if value.is_real is False:
-        value = sp.re(value)
-    with mpmath.workdps(dps):
-        return mpmath.mpf(sp.Float(value, dps)._mpf_)
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,10 +93,11 @@ class _Builder:
         self.coeffs: list[list[list]] = []
         self.mirror: list[int] = []
         self.values: dict = {}
+        self.caches: dict = {}
 
     def value(self, expr: sp.Expr) -> mpmath.mpf:
         if expr not in self.values:
-            self.values[expr] = _mp_value(expr, self.dps)
+            self.values[expr] = mp_value(expr, self.dps, self.caches)
         return self.values[expr]
 
     def node(self, key, value, mirror_key, mirror_value) -> tuple[int, int]:
