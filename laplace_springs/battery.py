@@ -13,8 +13,10 @@ oscillation by up to 1e-12.
 
 Kinds: ``critical``, ``near-critical``, ``separated-real``, ``defective``,
 ``near-defective``, ``rigid-body``, ``stiffness-ratio``, ``mass-ratio``,
-``heavy-damping``, ``light-damping``, ``symmetric``, ``close-frequencies``, ``chain``
-and (to be added with massless nodes) ``massless``.
+``heavy-damping``, ``light-damping``, ``symmetric``, ``close-frequencies``,
+``near-resonance`` (forcing near a natural frequency, the forcing written as an extra
+oscillator state so that the scene stays unforced), ``chain`` and (to be added with
+massless nodes, in :func:`_massless`) ``massless``.
 
 Examples
 --------
@@ -40,7 +42,7 @@ __all__ = ["BatteryCase", "battery_cases", "KINDS"]
 #: The kinds of case, in the order of issue 3 item 1.
 KINDS = ("critical", "near-critical", "separated-real", "defective", "near-defective",
          "rigid-body", "stiffness-ratio", "mass-ratio", "heavy-damping", "light-damping",
-         "symmetric", "close-frequencies", "chain", "massless")
+         "symmetric", "close-frequencies", "near-resonance", "chain", "massless")
 
 
 @dataclass(frozen=True)
@@ -227,6 +229,13 @@ def _rigid_body() -> list[BatteryCase]:
                                           dashpots={"c1": ("wall", "m1", "1/1000")},
                                           x0=["0"], v0=["1"]),
                     _times(1e4, 32, logs=range(-10, 13, 2))),
+        BatteryCase("free-body-slow-dashpot", "rigid-body",
+                    "a free mass with a 1e-6 dashpot, looked at for t ≤ 1: "
+                    "x = (1 - e^{-ct})/c from residues ±1e6 that cancel",
+                    Scene.from_components(masses={"m1": "1"},
+                                          dashpots={"c1": ("wall", "m1", "0.000001")},
+                                          x0=["0"], v0=["1"]),
+                    _times(1, 32, logs=range(-30, 0, 3))),
         BatteryCase("free-free-damped", "rigid-body",
                     "free-free chain with dashpots between the masses: a rigid drift "
                     "plus decaying internal modes",
@@ -282,6 +291,38 @@ def _symmetric() -> list[BatteryCase]:
     ]
 
 
+def _resonance(c: str, omega_squared: str) -> Scene:
+    """x'' + c x' + x = u with u'' + ω² u = 0, u(0) = 1: forcing cos ωt as an extra state.
+
+    The transform of x has the forced response's poles (±iω beside the natural pair)
+    and partial fractions with 1/(1 - ω²) coefficients, yet the scene stays unforced,
+    so the arb matrix exponential remains an independent reference.
+    """
+    return Scene.from_matrices(M=[[1, 0], [0, 1]], C=[[c, 0], [0, 0]],
+                               K=[["1", "-1"], ["0", omega_squared]],
+                               x0=["0", "1"], v0=["0", "0"], names=("x", "u"))
+
+
+def _near_resonance() -> list[BatteryCase]:
+    near = "1.0000000200000001"  # ω = 1 + 1e-8
+    return [
+        BatteryCase("near-resonance-1e-8", "near-resonance",
+                    "x'' + x = cos ωt, ω = 1 + 1e-8 (forcing as an extra oscillator): "
+                    "(cos ωt - cos t)/(1 - ω²) with 5e7 coefficients, t up to 1e4",
+                    _resonance("0", near), _times(1e4, 64)),
+        BatteryCase("resonance-light-damping-1e-6", "near-resonance",
+                    "x'' + 1e-6 x' + x = cos t: exact resonance with light damping, "
+                    "poles 5e-7 apart, growth t/2 over 1e4 time units",
+                    _resonance("0.000001", "1"), _times(1e4, 64)),
+        BatteryCase("near-resonance-damped", "near-resonance",
+                    "x'' + 1e-6 x' + x = cos ωt, ω = 1 + 1e-8: both effects at once",
+                    _resonance("0.000001", near), _times(1e4, 64)),
+        BatteryCase("resonance-exact", "near-resonance",
+                    "x'' + x = cos t: a defective pair ±i, secular t·sin t over 1e4",
+                    _resonance("0", "1"), _times(1e4, 64)),
+    ]
+
+
 def _chains(large: bool) -> list[BatteryCase]:
     def chain(n: int, damping: str) -> Scene:
         masses = [str(1 + (i % 3)) for i in range(n)]
@@ -310,7 +351,7 @@ def _massless() -> list[BatteryCase]:
 
 _GROUPS: tuple[Callable[[], list[BatteryCase]], ...] = (
     _critical, _near_critical, _separated_real, _defective, _rigid_body, _ratios,
-    _symmetric, _massless)
+    _symmetric, _near_resonance, _massless)
 
 
 def battery_cases(*, large: bool = False) -> tuple[BatteryCase, ...]:
