@@ -53,6 +53,9 @@ __all__ = ["KAPPA_MAX", "Block", "Modes", "NumericSolution", "solve_numeric", "d
 
 #: Eigenvalue condition number above which a mode is treated inside a block.
 KAPPA_MAX = 1e3
+#: Condition number above which a mode is treated in a block if it is also near another
+#: eigenvalue (closer than NEAR times its own modulus): a nearly defective pair.
+KAPPA_NEAR, NEAR = 10.0, 0.1
 #: Largest number of eigenvalues grouped around one ill-conditioned eigenvalue.
 MAX_GROUP = 8
 _EPS = np.finfo(float).eps
@@ -207,8 +210,22 @@ def _group_around(k: int, mu: np.ndarray, scale: float) -> np.ndarray:
     return np.append(order[:members], k)
 
 
+def _ill_conditioned(mu: np.ndarray, kappa: np.ndarray) -> np.ndarray:
+    """Indices of eigenvalues with κ > KAPPA_MAX, or κ > KAPPA_NEAR and a close neighbour.
+
+    The companion form gives low-frequency modes κ ≈ 1/(2|μ|) without harm (their
+    neighbours are about |μ| away); a nearly defective pair has its partner much closer.
+    """
+    if len(mu) < 2:
+        return np.flatnonzero(kappa > KAPPA_MAX)
+    distance = np.abs(mu[:, None] - mu[None, :])
+    np.fill_diagonal(distance, np.inf)
+    near = distance.min(axis=1) < NEAR * np.abs(mu)
+    return np.flatnonzero((kappa > KAPPA_MAX) | ((kappa > KAPPA_NEAR) & near))
+
+
 def _groups(mu: np.ndarray, kappa: np.ndarray, scale: float) -> list[list[int]]:
-    """Disjoint groups (size ≥ 2) around the eigenvalues with κ > KAPPA_MAX."""
+    """Disjoint groups (size ≥ 2) around the ill-conditioned eigenvalues."""
     parent = list(range(len(mu)))
 
     def root(i: int) -> int:
@@ -217,7 +234,7 @@ def _groups(mu: np.ndarray, kappa: np.ndarray, scale: float) -> list[list[int]]:
             i = parent[i]
         return i
 
-    for k in np.flatnonzero(kappa > KAPPA_MAX):
+    for k in _ill_conditioned(mu, kappa):
         for j in _group_around(int(k), mu, scale):
             parent[root(int(j))] = root(int(k))
     groups: dict[int, list[int]] = {}
@@ -276,7 +293,7 @@ def _newton_step(Z: np.ndarray, mu: np.ndarray, V: np.ndarray, W: np.ndarray,
         size = np.linalg.norm(W2, axis=1) * np.linalg.norm(X, axis=0)
         noise = _EPS * size * (np.abs(mu) ** 2 + np.abs(mu) * _norm(C) + _norm(K))
         solver = _EPS * kappa * _norm(Z)
-        keep = (kappa <= KAPPA_MAX) & (noise < 0.1 * solver) & (np.abs(step) < 100 * solver)
+        keep = (kappa <= KAPPA_NEAR) & (noise < 0.1 * solver) & (np.abs(step) < 100 * solver)
     return np.where(keep, mu + step, mu), np.where(keep, noise + _EPS * np.abs(mu), solver)
 
 
@@ -379,14 +396,27 @@ class Modes:
         keep = ~lower
         return self.rates[keep], self.weights[:, keep] * np.where(upper[keep], 2.0, 1.0)
 
+    def _half_blocks(self) -> list[tuple[Block, float]]:
+        """Blocks with their factor: 2 for one of a conjugate pair (the other is dropped), else 1."""
+        upper = [b for b in self.blocks if b.center.imag > 0]
+        lower = [b for b in self.blocks if b.center.imag < 0]
+        partners = []
+        for block in upper:
+            match = [b for b in lower if len(b.T) == len(block.T) and b not in partners
+                     and abs(b.center - block.center.conjugate()) <= 1e-8 * max(1.0, abs(block.center))]
+            partners.extend(match[:1])
+        if len(partners) != len(lower) or len(upper) != len(lower):
+            return [(b, 1.0) for b in self.blocks]
+        return [(b, 2.0 if b.center.imag > 0 else 1.0) for b in self.blocks if b.center.imag >= 0]
+
     def values(self, times: np.ndarray, order: int = 0) -> np.ndarray:
         """d^order x/dt^order at the times, float64, shape (n, len(times))."""
         rates, weights = self._half()
         with np.errstate(over="ignore", invalid="ignore"):
             total = (weights * rates**order) @ np.exp(np.outer(rates, times))
-        for block in self.blocks:
+        for block, factor in self._half_blocks():
             vector = np.linalg.matrix_power(block.T, order) @ block.c
-            total = total + block.F @ block.exp_times(times, vector)
+            total = total + factor * (block.F @ block.exp_times(times, vector))
         return total.real
 
     def error_estimate(self, times: np.ndarray) -> np.ndarray:
@@ -405,11 +435,11 @@ class Modes:
             total = (np.abs(self.weights) * self.kappa * unit) @ growth
             total += (np.abs(self.weights) * self.rate_error) @ (growth * np.abs(times))
         rng = np.random.default_rng(_RNG_SEED)
-        for block in self.blocks:
+        for block, factor in self._half_blocks():
             inner = block.exp_times(times, block.c)
             moved = block.perturbed(unit * self.norm, rng).exp_times(times, block.c)
-            total = total + unit * block.kappa * (np.abs(block.F) @ np.abs(inner))
-            total = total + 3 * np.abs(block.F @ (moved - inner))
+            total = total + factor * unit * block.kappa * (np.abs(block.F) @ np.abs(inner))
+            total = total + factor * 3 * np.abs(block.F @ (moved - inner))
         return total
 
 
@@ -525,10 +555,10 @@ def _collect(modes: Modes) -> dict[tuple[int, float, float], np.ndarray]:
     rates, weights = modes._half()
     for k, rate in enumerate(rates):
         add(0, complex(rate), weights[:, k])
-    for block in modes.blocks:
+    for block, factor in modes._half_blocks():
         for rate, powers in _block_terms(block):
             for p, weight in enumerate(powers):
-                add(p, complex(rate), weight)
+                add(p, complex(rate), factor * weight)
     return table
 
 
@@ -757,6 +787,7 @@ class NumericSolution:
         sizes = [len(b.T) for b in self.modes.blocks]
         blocks = f", {len(sizes)} block(s) of clustered poles (sizes {sizes})" if sizes else ""
         slowest = float(-poles.real.max()) if len(poles) else 0.0
+        slowest = 0.0 if abs(slowest) <= 1e-12 * max(np.max(np.abs(poles), initial=0.0), 1e-300) else slowest
         warnings = "".join(f"; warning: {w}" for w in self.modes.warnings)
         return (f"NumericSolution({self.scene!r}: {len(poles)} poles{blocks}, slowest decay rate "
                 f"{slowest:.3g}; method='numeric': {self.reason}{warnings})")
