@@ -1,0 +1,175 @@
+"""Float64 and mpmath evaluation of exact terms (laplace_springs.evaluate, pole_sum).
+
+References: textbook inverse transforms evaluated with 50-digit mpmath, SymPy's adaptive
+evalf of the exact closed form, mpmath's expm for divided differences, and the arb
+matrix exponential of the first-order system.
+"""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import laplace_springs as ls
+from laplace_springs import evaluate as ev
+from laplace_springs.evaluate import evaluate_float, evaluate_mp, numeric_terms
+from laplace_springs.inverse import inverse_laplace_terms
+from laplace_springs.pole_sum import first_row_exp
+from laplace_springs.real_terms import Term
+from laplace_springs.reference import reference_motion_arb, relative_error
+
+s, t = sp.symbols("s t")
+
+
+def _errors(values, exact) -> tuple[float, float]:
+    """max |values - exact| and max |exact| (exact: mpmath numbers)."""
+    with mpmath.workdps(60):
+        diff = max(float(abs(mpmath.mpf(float(v)) - e)) for v, e in zip(np.ravel(values),
+                                                                       np.ravel(exact)))
+        scale = max(float(abs(e)) for e in np.ravel(exact))
+    return diff, scale
+
+
+def _beat_terms(omega: sp.Rational, omega_n: sp.Rational) -> list[Term]:
+    """(cos ωt − cos ω_n t)/(ω_n² − ω²), built directly as two oscillatory terms."""
+    A = 1 / (omega_n**2 - omega**2)
+    return [Term("oscillatory", 0, sp.S.Zero, omega, A, sp.S.Zero),
+            Term("oscillatory", 0, sp.S.Zero, omega_n, -A, sp.S.Zero)]
+
+
+@pytest.mark.parametrize("gap", ["1e-4", "1e-8", "1e-12", "1e-15"])
+def test_near_resonant_difference_of_cosines(gap):
+    # L^{-1}[s/((s²+ω²)(s²+ω_n²))] = (cos ωt − cos ω_n t)/(ω_n² − ω²): coefficients 1/gap.
+    omega = sp.Rational(3, 2)
+    omega_n = omega + sp.Rational(gap)
+    times = np.array([0.0, 1e-9, 1e-3, 0.75, 3.0, 100.0, 2048.5, 1e4])
+    x = evaluate_float(numeric_terms([_beat_terms(omega, omega_n)]), 1, times)
+    with mpmath.workdps(50):
+        w, wn = (mpmath.mpf(v.p) / v.q for v in (omega, omega_n))
+        exact = [(mpmath.cos(w * tv) - mpmath.cos(wn * tv)) / (wn**2 - w**2)
+                 for tv in map(mpmath.mpf, times)]
+    diff, scale = _errors(x[0], exact)
+    assert diff <= 1e-15 * scale
+
+
+@pytest.mark.parametrize("damping", ["1e-6", "1e-3"])
+def test_light_damping_at_resonance(damping):
+    # x'' + c x' + x = cos ωt from rest, ω within 1e-8 of 1: 1/((s²+ω²)(s²+cs+1)) · s.
+    c, omega = sp.Rational(damping), 1 + sp.Rational(1, 10**8)
+    F = s / ((s**2 + omega**2) * (s**2 + c * s + 1))
+    terms = inverse_laplace_terms(F, s).terms
+    times = np.array([0.0, 0.5, 10.0, 1e3, 4096.25, 1e4])
+    x = evaluate_float(numeric_terms([terms]), 1, times)
+    expr = ls.inverse_laplace(F, s, t)
+    exact = [mpmath.mpf(str(sp.N(expr.subs(t, sp.Rational(tv)), 50))) for tv in times]
+    diff, scale = _errors(x[0], exact)
+    assert diff <= 1e-14 * scale
+
+
+def test_critical_and_near_critical_single_mass():
+    # Textbook: x'' + 2ζx' + x = 0, x(0)=1, x'(0)=0 at ζ = 1 ± 1e-14 and ζ = 1.
+    times = np.array([0.0, 1e-12, 1e-3, 1.0, 7.5, 40.0, 700.0])
+    for c in ("2", "1.99999999999998", "2.00000000000002"):
+        scene = ls.Scene.from_matrices(M=[[1]], C=[[c]], K=[[1]], x0=[1], v0=[0])
+        x = ls.solve(scene).evaluate(times)
+        assert relative_error(x, reference_motion_arb(scene, times, digits=40)) <= 1e-15
+
+
+def test_huge_and_zero_times():
+    # c = 1e6, k = 1: roots −1e-6 and −1e6; x(t) at t = 0, 1e-7 and 1e6.
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["1000000"]], K=[[1]], x0=[1], v0=[0])
+    times = np.array([0.0, 1e-7, 1e-6, 5e5, 1e6])
+    x = ls.solve(scene).evaluate(times)
+    assert relative_error(x, reference_motion_arb(scene, times, digits=40)) <= 1e-15
+
+
+def test_empty_times_and_zero_motion():
+    scene = ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[0], v0=[0])
+    sol = ls.solve(scene)
+    assert evaluate_float(numeric_terms(sol.terms), 1, np.array([])).shape == (1, 0)
+    assert np.all(evaluate_float(numeric_terms(sol.terms), 1, np.array([0.0, 5.0])) == 0)
+
+
+def test_return_error_bounds_actual_error():
+    scene = ls.Scene.from_components(
+        masses={"m1": "1", "m2": "1"},
+        springs={"k1": ("wall", "m1", "1"), "k2": ("m1", "m2", "1")},
+        dashpots={"c1": ("wall", "m1", "2.0000000002")}, x0=[1, 0], v0=[0, 1])
+    sol = ls.solve(scene)
+    times = np.linspace(0, 60, 41)
+    values, error = evaluate_float(numeric_terms(sol.terms), 2, times, return_error=True)
+    assert error.shape == values.shape
+    ref = reference_motion_arb(scene, times, digits=40)
+    actual = np.array([[abs(float(mpmath.mpf(v) - r)) for v, r in zip(vr, rr)]
+                       for vr, rr in zip(values, ref)])
+    assert np.all(error >= actual)
+    assert error.max() <= 1e-13 * np.abs(values).max()
+
+
+def test_fallback_to_mpmath(monkeypatch):
+    # Forcing every column through the mpmath route gives the same accurate values.
+    monkeypatch.setattr(ev, "FALLBACK_TOLERANCE", 0.0)
+    omega, omega_n = sp.Rational(1), 1 + sp.Rational(1, 10**8)
+    times = np.array([0.0, 0.25, 1e4])
+    x, error = evaluate_float(numeric_terms([_beat_terms(omega, omega_n)]), 1, times,
+                              return_error=True)
+    with mpmath.workdps(50):
+        wn = mpmath.mpf(omega_n.p) / omega_n.q
+        exact = [(mpmath.cos(tv) - mpmath.cos(wn * tv)) / (wn**2 - 1)
+                 for tv in map(mpmath.mpf, times)]
+    diff, scale = _errors(x[0], exact)
+    assert diff <= 1e-16 * scale
+    assert np.all(error <= 1e-15 * scale)
+
+
+def test_evaluate_mp_raises_its_precision():
+    # Data converted at only 20 digits, residues 1e15 that cancel: 50 digits are still
+    # delivered (the exact terms are reconverted at the precision the sum needs).
+    omega, omega_n = sp.Rational(1), 1 + sp.Rational(1, 10**15)
+    data = numeric_terms([_beat_terms(omega, omega_n)], dps=20)
+    times = ["0.5", "3", "1000"]
+    x = evaluate_mp(data, 1, times, 50)
+    with mpmath.workdps(80):
+        wn = mpmath.mpf(omega_n.p) / omega_n.q
+        for value, tv in zip(x[0], map(mpmath.mpf, times)):
+            exact = (mpmath.cos(tv) - mpmath.cos(wn * tv)) / (wn**2 - 1)
+            assert abs(value - exact) <= mpmath.mpf(10) ** -48 * abs(exact)
+
+
+@pytest.mark.parametrize("nodes", [
+    [0.1 + 0.2j, 0.1 - 0.2j, -0.3 + 0j],
+    [2.0 + 1j, -1.5 + 0.5j, 0.5 - 2j, 3j],       # needs scaling and squaring
+    [0.0, 0.0, 0.0, 1e-9],                         # confluent
+])
+def test_first_row_exp_is_opitz_divided_differences(nodes):
+    # Reference: mpmath expm of the bidiagonal matrix at 40 digits.
+    x = np.array([nodes], dtype=complex)
+    row, _ = first_row_exp(x)
+    size = len(nodes)
+    with mpmath.workdps(40):
+        W = mpmath.matrix(size, size)
+        for i, v in enumerate(nodes):
+            W[i, i] = mpmath.mpc(v.real, v.imag) if isinstance(v, complex) else v
+            if i + 1 < size:
+                W[i, i + 1] = 1
+        E = mpmath.expm(W)
+        exact = [complex(E[0, j]) for j in range(size)]
+    assert np.allclose(row[0], exact, rtol=1e-14, atol=1e-16)
+
+
+@settings(max_examples=25, deadline=None)
+@given(exponent=st.integers(2, 15), above=st.booleans(), x0=st.integers(-3, 3),
+       v0=st.integers(-3, 3), stop=st.sampled_from([1.0, 50.0, 1e4]))
+def test_property_near_critical(exponent, above, x0, v0, stop):
+    # x'' + 2(1 ± 10^-e) x' + x = 0 against the certified arb reference.
+    if x0 == 0 and v0 == 0:
+        x0 = 1
+    c = 2 * (1 + (1 if above else -1) * sp.Rational(1, 10**exponent))
+    scene = ls.Scene.from_matrices(M=[[1]], C=[[c]], K=[[1]], x0=[x0], v0=[v0])
+    times = np.concatenate([[0.0, 0.5, 1.0, 2.0], np.linspace(0.0, stop, 9)])
+    x = ls.solve(scene).evaluate(times)
+    assert relative_error(x, reference_motion_arb(scene, times, digits=30)) <= 1e-15
