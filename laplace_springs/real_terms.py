@@ -12,7 +12,10 @@ into real form.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, field
 from typing import Literal
 
 import sympy as sp
@@ -20,8 +23,9 @@ import sympy as sp
 from .algebraic import AlgebraicRoot
 from .errors import InversionError
 from .partial_fractions import PoleGroup, residue_scale
+from .symbolic_forms import named
 
-__all__ = ["Term", "group_terms", "terms_expr"]
+__all__ = ["Term", "group_terms", "terms_expr", "solution_terms", "naming_scope"]
 
 Kind = Literal["real", "oscillatory", "hyperbolic"]
 
@@ -196,8 +200,177 @@ def _biquadratic_terms(group: PoleGroup) -> list[Term]:
     return out
 
 
+# ---------------------------------------------------------------------------
+# symbolic factors: named frequencies and damping rates
+# ---------------------------------------------------------------------------
+@dataclass
+class _Names:
+    """Numbering of named quantities shared by all coordinates of one solution."""
+
+    counters: dict[str, int] = field(default_factory=dict)
+    assigned: dict[tuple, sp.Expr] = field(default_factory=dict)
+
+    def get(self, key: tuple, base: str, definition: sp.Expr, *, positive: bool | None,
+            meaning: str, display: sp.Expr | None = None) -> sp.Expr:
+        """The named atom for (factor key, base); the next free index on first use."""
+        if (key, base) not in self.assigned:
+            index = self.counters.get(base, 0) + 1
+            atom = named(base, index, definition, positive=positive, meaning=meaning,
+                         display=display)
+            if atom.free_symbols:
+                self.counters[base] = index
+            self.assigned[key, base] = atom
+        return self.assigned[key, base]
+
+
+_SCOPE: ContextVar[_Names | None] = ContextVar("laplace_springs_names", default=None)
+
+
+@contextmanager
+def naming_scope() -> Iterator[None]:
+    """Number named quantities (ω₁, ω₂, γ₁, ...) consistently across several calls.
+
+    Inside the scope every :func:`group_terms` call shares one numbering, so two
+    factors of one Δ(λ) get distinct names and every coordinate uses the same ones.
+    Outside a scope each call numbers from 1 (fine when Δ has one symbolic factor).
+    """
+    token = _SCOPE.set(_Names())
+    try:
+        yield
+    finally:
+        _SCOPE.reset(token)
+
+
+def _names() -> _Names:
+    return _SCOPE.get() or _Names()
+
+
+def _factor_key(q: sp.Poly) -> tuple:
+    return tuple(q.domain.to_sympy(c) for c in q.all_coeffs())
+
+
+def _group_numerator(group: PoleGroup) -> list[sp.Expr]:
+    """Ascending coefficients of Ñ with Σ_{q(ρ)=0} h(ρ)/(s - ρ) = Ñ(s)/q(s) (simple pole)."""
+    q = group.factor
+    numerator = (group.residues[0] * q.diff()).rem(q)
+    to_sympy = q.domain.to_sympy
+    coeffs = [sp.factor(to_sympy(c)) for c in reversed(numerator.all_coeffs())]
+    return coeffs + [sp.S.Zero] * (q.degree() - len(coeffs))
+
+
+def _tidy(expr: sp.Expr) -> sp.Expr:
+    """A coefficient written over one denominator, common factors pulled out."""
+    return sp.factor_terms(sp.together(expr))
+
+
+def _is_symbolic(q: sp.Poly) -> bool:
+    return any(q.domain.to_sympy(c).free_symbols for c in q.all_coeffs())
+
+
+def _named_quadratic_terms(group: PoleGroup) -> list[Term]:
+    """q = s² + p s + r with symbolic p, r: e^{-γt}(Ñ₁ cos ωt + (Ñ₀ - γÑ₁) sin(ωt)/ω).
+
+    γ = p/2 is the damping rate, ω² = r - γ² the damped frequency squared. When
+    γ² - r is known to be positive (overdamped) the pair is cosh/sinh with σ² = γ² - r;
+    otherwise the oscillatory form is used, and it stays an identity for overdamped
+    values (cos iσt = cosh σt, sin(iσt)/(iσ) = sinh(σt)/σ): only the critical case
+    ω = 0 is excluded, which the name's meaning states.
+    """
+    _, p, r = _factor_key(group.factor)
+    names, key = _names(), _factor_key(group.factor)
+    rate = sp.factor(p / 2)
+    gamma = names.get(key, "gamma", _readable(rate), positive=rate.is_positive or None,
+                      meaning="damping rate") if rate != 0 else sp.S.Zero
+    square = sp.factor(r - rate**2)
+    shown_square = _readable(r) - gamma**2
+    if (-square).is_positive:
+        kind: Kind = "hyperbolic"
+        frequency = names.get(key, "sigma", sp.sqrt(-square), positive=True,
+                              meaning="hyperbolic rate (overdamped)", display=sp.sqrt(-shown_square))
+    else:
+        kind = "oscillatory"
+        meaning = "natural frequency" if rate == 0 else "damped frequency"
+        if not square.is_positive:
+            meaning += " (assumes ω² > 0: underdamped)"
+        frequency = names.get(key, "omega", sp.sqrt(square), positive=square.is_positive or None,
+                              meaning=meaning, display=sp.sqrt(shown_square) if rate != 0 else None)
+    c0, c1 = _group_numerator(group)
+    sin_weight = _readable(c0 - rate * c1)
+    if rate != 0:
+        sin_weight = _readable(sin_weight.subs(_readable(rate), gamma))
+    term = _term(kind, 0, -gamma, frequency, c1, sin_weight / frequency, clean=False)
+    return [term] if term else []
+
+
+def _named_biquadratic_terms(group: PoleGroup) -> list[Term]:
+    """q = s⁴ + S s² + P = (s² + ω₁²)(s² + ω₂²): an undamped symbolic pair.
+
+    ω₁² ≤ ω₂² are the roots of z² - S z + P = 0 (S = ω₁² + ω₂², P = ω₁²ω₂²). With
+    Ñ(s) = E(s²) + s·O(s²),
+
+        Ñ/q = Σ_j [O(-ω_j²) s + E(-ω_j²)] / [(s² + ω_j²)(ω_k² - ω_j²)],  k ≠ j,
+
+    so the pair contributes Σ_j ±[O(-ω_j²) cos ω_j t + E(-ω_j²) sin(ω_j t)/ω_j]/(ω₂² - ω₁²).
+    """
+    _, _, total, _, product = _factor_key(group.factor)
+    names, key = _names(), _factor_key(group.factor)
+    positive = True if (total.is_positive and product.is_positive) else None
+    S = names.get(key, "S", _readable(total), positive=total.is_positive or None,
+                  meaning="sum of the squared natural frequencies")
+    P = names.get(key, "P", _readable(product), positive=product.is_positive or None,
+                  meaning="product of the squared natural frequencies")
+    root = sp.sqrt(sp.factor(total**2 - 4 * product))
+    shown_root = sp.sqrt(S**2 - 4 * P)
+    omegas = [names.get(key + (j,), "omega", sp.sqrt((total + sign * root) / 2),
+                        positive=positive, meaning="natural frequency",
+                        display=sp.sqrt((S + sign * shown_root) / 2))
+              for j, sign in ((0, -1), (1, 1))]
+    c0, c1, c2, c3 = _group_numerator(group)
+    gap = omegas[1] ** 2 - omegas[0] ** 2
+    out = []
+    for j, w in enumerate(omegas):
+        z, sign = -w**2, (1, -1)[j]
+        cos_weight = sp.Mul(sign, _readable(c1 + c3 * z), 1 / gap, evaluate=True)
+        sin_weight = sp.Mul(sign, _readable(c0 + c2 * z), 1 / (w * gap))
+        term = _term("oscillatory", 0, 0, w, cos_weight, sin_weight, clean=False)
+        if term:
+            out.append(term)
+    return out
+
+
+def _readable(expr: sp.Expr) -> sp.Expr:
+    """A sum of simple fractions: terms grouped by denominator, numerators factored.
+
+    ((k1 + k2)/m1 + (k2 + k3)/m2 rather than one fraction over m1·m2.)
+    """
+    groups: dict[sp.Expr, list[sp.Expr]] = {}
+    for term in sp.Add.make_args(sp.expand(expr)):
+        numerator, denominator = sp.fraction(term)
+        groups.setdefault(denominator, []).append(numerator)
+    return sp.Add(*(sp.factor_terms(sp.Add(*parts)) / denominator
+                    for denominator, parts in groups.items()))
+
+
+def _named_terms(group: PoleGroup) -> list[Term] | None:
+    """Named-quantity terms for a simple symbolic quadratic or even quartic, else None."""
+    if group.multiplicity != 1 or not _is_symbolic(group.factor):
+        return None
+    if group.degree == 2:
+        return _named_quadratic_terms(group)
+    if _is_symbolic_biquadratic(group.factor):
+        return _named_biquadratic_terms(group)
+    return None
+
+
 def group_terms(group: PoleGroup) -> list[Term]:
-    """Real terms of one pole group (see the module docstring for the forms)."""
+    """Real terms of one pole group (see the module docstring for the forms).
+
+    Symbolic quadratic and even quartic factors with simple roots come out in named
+    quantities (ω_j, γ_j, σ_j: see :mod:`laplace_springs.symbolic_forms`).
+    """
+    named_terms = _named_terms(group)
+    if named_terms is not None:
+        return named_terms
     if group.degree == 1:
         return _linear_terms(group)
     if group.degree == 2:
@@ -205,6 +378,13 @@ def group_terms(group: PoleGroup) -> list[Term]:
     if _is_symbolic_biquadratic(group.factor):
         return _biquadratic_terms(group)
     return _algebraic_terms(group)
+
+
+def solution_terms(decompositions) -> tuple[tuple[Term, ...], ...]:
+    """Terms of every coordinate, with one numbering of named quantities for all."""
+    with naming_scope():
+        return tuple(tuple(term for group in pf.groups for term in group_terms(group))
+                     for pf in decompositions)
 
 
 def terms_expr(terms: list[Term], t: sp.Symbol) -> sp.Expr:
