@@ -19,6 +19,7 @@ command line uses :func:`overview_figure`, which needs no pyplot backend.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import weakref
 from collections.abc import Sequence
@@ -31,7 +32,6 @@ import sympy as sp
 from .algebraic import numeric_value
 from .drawing import math_label, physical_matrices
 from .errors import SceneError
-from .evaluate import evaluate_float, numeric_terms
 from .real_terms import Term
 
 if TYPE_CHECKING:
@@ -42,7 +42,7 @@ if TYPE_CHECKING:
     from .solution import Solution
 
 __all__ = [
-    "velocity_terms", "time_grid", "default_t_end", "motion", "Energy", "energy",
+    "velocity", "velocity_terms", "time_grid", "default_t_end", "motion", "Energy", "energy",
     "plot_motion", "plot_phase", "plot_energy", "plot_frequency_response", "overview_figure",
 ]
 
@@ -69,8 +69,45 @@ def _derivative(term: Term) -> list[Term]:
     return out
 
 
+def _derivative_rows(rows) -> tuple[tuple[Term, ...], ...]:
+    return tuple(tuple(d for term in row for d in _derivative(term)) for row in rows)
+
+
+def _pieces(solution: Solution) -> tuple:
+    """The solution's pieces (terms switched on at a delay); one piece for a free motion."""
+    return tuple(getattr(solution, "pieces", ()))
+
+
+def velocity(solution: Solution) -> Solution:
+    """v(t) = x'(t) as a Solution-like object (same scene) whose terms are exact derivatives.
+
+    Each piece of a driven motion (terms in t − τ switched on at τ) is differentiated
+    term by term; the Dirac impulses at the switching times are left out (a plot cannot
+    show them). Use ``velocity(sol).evaluate(times)``.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
+    >>> velocity(sol).evaluate([math.pi / 4]).round(12)
+    array([[-2.]])
+    """
+    from .solution import Solution
+
+    pieces = _pieces(solution)
+    terms = _derivative_rows(solution.terms)
+    if not pieces:
+        return Solution(solution.scene, solution.resolvent, terms)
+    new_pieces = []
+    for piece in pieces:
+        steady = tuple(tuple(flag for term, flag in zip(row, flags) for _ in _derivative(term))
+                       for row, flags in zip(piece.terms, piece.steady))
+        new_pieces.append(dataclasses.replace(piece, terms=_derivative_rows(piece.terms), steady=steady))
+    return Solution(solution.scene, solution.resolvent, terms, pieces=tuple(new_pieces))
+
+
 def velocity_terms(solution: Solution) -> tuple[tuple[Term, ...], ...]:
-    """The exact terms of v(t) = x'(t), one tuple per coordinate.
+    """The exact terms of v(t) = x'(t) for a free motion, one tuple per coordinate.
 
     Examples
     --------
@@ -79,7 +116,7 @@ def velocity_terms(solution: Solution) -> tuple[tuple[Term, ...], ...]:
     >>> sp.simplify(sum(term.as_expr(ls.t) for term in velocity_terms(sol)[0]))
     -2*sin(2*t)
     """
-    return tuple(tuple(d for term in row for d in _derivative(term)) for row in solution.terms)
+    return _derivative_rows(solution.terms)
 
 
 def _check_numeric(scene: Scene) -> None:
@@ -97,7 +134,8 @@ def _rates_and_frequencies(solution: Solution) -> tuple[np.ndarray, np.ndarray]:
     """Exponential rates α and angular frequencies β of the solution's terms (float64)."""
     _check_numeric(solution.scene)
     rates, frequencies = [], []
-    for term in (term for row in solution.terms for term in row):
+    rows = [row for piece in _pieces(solution) for row in piece.terms] or list(solution.terms)
+    for term in (term for row in rows for term in row):
         alpha = float(sp.re(numeric_value(term.alpha, 20)))
         beta = float(abs(sp.re(numeric_value(term.beta, 20)))) if term.kind != "real" else 0.0
         if term.kind == "hyperbolic":  # e^{αt} cosh σt: the real rates α ± σ
@@ -172,18 +210,16 @@ def motion(solution: Solution, times: Any) -> tuple[np.ndarray, np.ndarray]:
     """
     _check_numeric(solution.scene)
     times = np.atleast_1d(np.asarray(times, dtype=float))
-    n = solution.scene.n
-    velocities = evaluate_float(_velocity_data(solution), n, times)
-    return solution.evaluate(times), velocities
+    return solution.evaluate(times), _velocity_of(solution).evaluate(times)
 
 
 _VELOCITIES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _velocity_data(solution: Solution):
-    """Numeric velocity terms, computed once per solution."""
+def _velocity_of(solution: Solution) -> Solution:
+    """:func:`velocity`, computed once per solution."""
     if solution not in _VELOCITIES:
-        _VELOCITIES[solution] = numeric_terms(velocity_terms(solution), dps=40)
+        _VELOCITIES[solution] = velocity(solution)
     return _VELOCITIES[solution]
 
 
@@ -200,12 +236,19 @@ class Energy:
         ½ xᵀ K x.
     dissipated : numpy.ndarray
         ∫₀ᵗ vᵀ C v dt, the work done against the dashpots (non-decreasing).
+    work : numpy.ndarray
+        ∫₀ᵗ fᵀ v dt, the work done by the external forces (zero for a free motion).
     """
 
     times: np.ndarray
     kinetic: np.ndarray
     potential: np.ndarray
     dissipated: np.ndarray
+    work: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.work is None:
+            object.__setattr__(self, "work", np.zeros_like(self.times))
 
     @property
     def mechanical(self) -> np.ndarray:
@@ -214,8 +257,8 @@ class Energy:
 
     @property
     def total(self) -> np.ndarray:
-        """Mechanical plus dissipated energy: constant, the initial energy."""
-        return self.mechanical + self.dissipated
+        """Mechanical plus dissipated energy minus the work of the forces: the initial energy."""
+        return self.mechanical + self.dissipated - self.work
 
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
@@ -253,10 +296,44 @@ def energy(solution: Solution, times: Any) -> Energy:
     starts, widths = times[:-1], np.diff(times)
     nodes = (starts[:, None] + 0.5 * widths[:, None] * (1 + _GAUSS_NODES[None, :])).ravel()
     _, v_nodes = motion(solution, nodes)
-    power = _quadratic(C, v_nodes).reshape(len(starts), 3)
-    steps = 0.5 * widths * (power @ _GAUSS_WEIGHTS)
-    dissipated = np.concatenate([[0.0], np.cumsum(steps)])
-    return Energy(times, 0.5 * _quadratic(M, v), 0.5 * _quadratic(K, x), dissipated)
+
+    def integral(power: np.ndarray) -> np.ndarray:
+        steps = 0.5 * widths * (power.reshape(len(starts), 3) @ _GAUSS_WEIGHTS)
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
+    dissipated = integral(_quadratic(C, v_nodes))
+    work = None
+    force = _force_values(solution.scene, nodes)
+    if force is not None:
+        weights = _force_weights(solution.scene)
+        work = integral(np.einsum("it,ij,jt->t", force, weights, v_nodes))
+    return Energy(times, 0.5 * _quadratic(M, v), 0.5 * _quadratic(K, x), dissipated, work)
+
+
+def _force_weights(scene: Scene) -> np.ndarray:
+    """diag(d) of :func:`physical_matrices` (the identity for a symmetric scene)."""
+    M, _, _ = physical_matrices(scene)
+    if M == scene.M:
+        return np.eye(scene.n)
+    return _float_matrix(M) @ np.linalg.inv(_float_matrix(scene.M))
+
+
+def _force_values(scene: Scene, times: np.ndarray) -> np.ndarray | None:
+    """f(t) at ``times``, shape (n, len(times)); None for a free motion."""
+    forcing = getattr(scene, "forcing", None)
+    if forcing is None or all(entry == 0 for entry in forcing):
+        return None
+    if any(entry.has(sp.DiracDelta) for entry in forcing):
+        raise SceneError("energy: impulsive forces (DiracDelta) deliver their work in an instant; "
+                         "the energy balance is not drawn for them")
+    from .numbers import TIME
+
+    step = {"Heaviside": lambda value, *_: np.heaviside(value, 1.0)}
+    values = np.empty((scene.n, times.size))
+    for i, entry in enumerate(forcing):
+        function = sp.lambdify(TIME, entry, modules=[step, "numpy"])
+        values[i] = np.broadcast_to(np.asarray(function(times), dtype=float), times.shape)
+    return values
 
 
 # ----------------------------------------------------------------------------
@@ -337,12 +414,12 @@ def plot_phase(solution: Solution, ax: Axes | None = None, *, t_end: float | Non
                time_unit: str = "s", length_unit: str = "m", title: str | bool = True) -> Axes:
     """Phase portraits: velocity x_i'(t) against position x_i(t), from a dot at t = 0.
 
+    The parameters other than ``coordinates`` are those of :func:`plot_motion`.
+
     Parameters
     ----------
     coordinates : sequence of int, optional
         Which coordinates (0-based); all when omitted.
-
-    Other parameters are those of :func:`plot_motion`.
 
     Examples
     --------
@@ -389,9 +466,13 @@ def plot_energy(solution: Solution, ax: Axes | None = None, *, t_end: float | No
     ax.plot(times, e.kinetic, linewidth=1.4, label="kinetic ½vᵀMv")
     ax.plot(times, e.potential, linewidth=1.4, label="potential ½xᵀKx")
     ax.plot(times, e.dissipated, linewidth=LINE_WIDTH, label="dissipated ∫vᵀCv dt")
-    ax.plot(times, e.total, "k--", linewidth=LINE_WIDTH, label="total")
+    forced = bool(np.any(e.work))
+    if forced:
+        ax.plot(times, e.work, linewidth=LINE_WIDTH, label="work of the forces ∫fᵀv dt")
+    ax.plot(times, e.total, "k--", linewidth=LINE_WIDTH, label="total − work" if forced else "total")
     ax.set_xlim(times[0], times[-1])
-    ax.set_ylim(bottom=0.0)
+    if not forced:
+        ax.set_ylim(bottom=0.0)
     ax.set_xlabel(f"Time ({time_unit})")
     ax.set_ylabel(f"Energy ({energy_unit})")
     ax.legend(loc="center right")

@@ -173,6 +173,25 @@ class Solution:
         ode = _size([e.subs(t, sp.Rational(tv)) for e in residual for tv in samples], {}, dps)
         return Verification(ode / scale, _size(start, generic, dps) / scale, 10.0 ** (10 - dps))
 
+    # -- plots (see laplace_springs.plotting; need matplotlib) ---------------
+    def plot(self, ax=None, **kw):
+        """The seed's "Mass Position vs. Time" plot; see :func:`laplace_springs.plotting.plot_motion`."""
+        from .plotting import plot_motion
+
+        return plot_motion(self, ax, **kw)
+
+    def plot_phase(self, ax=None, **kw):
+        """Phase portraits x_i' against x_i; see :func:`laplace_springs.plotting.plot_phase`."""
+        from .plotting import plot_phase
+
+        return plot_phase(self, ax, **kw)
+
+    def plot_energy(self, ax=None, **kw):
+        """Kinetic, potential, dissipated energy; see :func:`laplace_springs.plotting.plot_energy`."""
+        from .plotting import plot_energy
+
+        return plot_energy(self, ax, **kw)
+
 
 def _generic_values(symbols) -> dict:
     """Fixed, unremarkable positive rationals for symbolic parameters."""

@@ -143,3 +143,17 @@ def test_cli_plot_writes_a_png(tmp_path, capsys):
     assert "x1(t) =" in capsys.readouterr().out  # the formula is still printed
     assert main(["solve", "wall-pair", "--plot", str(tmp_path / "missing" / "x.png")]) == 2
     assert "No such file" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not hasattr(ls.Scene, "with_forcing"), reason="forcing not available")
+def test_energy_balance_of_a_driven_damped_pair():
+    # E(t) = E0 + ∫fᵀv dt − ∫vᵀCv dt: the work of the force is integrated independently
+    # from f(t) itself (lambdify) and the exact velocity.
+    scene = ls.load_scene("wall-pair-dashpot").with_forcing(["cos(t)", "Heaviside(t - 2)/2"])
+    sol = ls.solve(scene)
+    e = energy(sol, np.linspace(0.0, 30.0, 3001))
+    initial = float((scene.v0.T * scene.M * scene.v0 + scene.x0.T * scene.K * scene.x0)[0] / 2)
+    assert np.abs(e.total - initial).max() <= 1e-9 * max(1.0, np.abs(e.work).max())
+    assert np.any(e.work != 0)
+    ax = plot_energy(sol, _axes())
+    assert "work of the forces ∫fᵀv dt" in [t.get_text() for t in ax.get_legend().texts]
