@@ -8,10 +8,12 @@ twice (at two precisions) to confirm the digits, sharing subexpressions.
 
 Precision and conditioning
 --------------------------
-The polynomials cancel: their terms can be far larger than the value. Evaluation at
-``dps + 30`` and ``dps + 60`` digits must agree to ``dps`` digits relative to the
-value; otherwise (or for anything unsupported, such as a free symbol) the value
-comes from :func:`laplace_springs.algebraic.numeric_value`, SymPy's adaptive evalf.
+The polynomials cancel: their terms can be far larger than the value (an eight-
+decade spread of masses gives 60 digits of cancellation, where SymPy's evalf on the
+rounded roots returns garbage). Evaluations at ``dps + g`` and ``dps + 2g`` digits
+must agree to ``dps`` digits relative to the value; g starts at 30 and doubles until
+they do. Anything unsupported (a free symbol, an unknown function) goes to
+:func:`laplace_springs.algebraic.numeric_value`, SymPy's adaptive evalf.
 """
 
 from __future__ import annotations
@@ -23,6 +25,9 @@ from sympy.polys.rootoftools import ComplexRootOf
 from .algebraic import numeric_value
 
 __all__ = ["mp_value"]
+
+#: Guard digits are doubled while two evaluations disagree, up to this many.
+_MAX_GUARD = 4000
 
 
 class _Unsupported(Exception):
@@ -112,19 +117,25 @@ def mp_value(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     """
     caches = {} if caches is None else caches
     expr = sp.sympify(expr)
+    guard = 30
     try:
-        low, high = _at(expr, dps + 30, caches), _at(expr, dps + 60, caches)
+        low = _at(expr, dps + guard, caches)
+        while guard <= _MAX_GUARD:
+            high = _at(expr, dps + 2 * guard, caches)
+            if _agree(low, high, dps):
+                with mpmath.workdps(dps):
+                    return +mpmath.re(high)
+            low, guard = high, 2 * guard
     except (_Unsupported, TypeError, ValueError, ZeroDivisionError):
-        return _fallback(expr, dps)
-    with mpmath.workdps(dps + 60):
-        high = mpmath.re(high) if abs(mpmath.im(high)) <= abs(high) * mpmath.mpf(10) ** -dps \
-            else None
-        good = high is not None and abs(mpmath.re(low) - high) <= \
-            abs(high) * mpmath.mpf(10) ** (-dps - 2)
-    if not good:
-        return _fallback(expr, dps)
-    with mpmath.workdps(dps):
-        return +high
+        pass
+    return _fallback(expr, dps)
+
+
+def _agree(low, high, dps: int) -> bool:
+    """Do two evaluations agree to ``dps`` digits (and is the value real)?"""
+    with mpmath.workdps(dps + 10):
+        tol = abs(high) * mpmath.mpf(10) ** (-dps - 2)
+        return abs(mpmath.im(high)) <= tol and abs(low - high) <= tol
 
 
 def _fallback(expr: sp.Expr, dps: int) -> mpmath.mpf:

@@ -280,8 +280,10 @@ def _centre_factor(mu: tuple[float, float, float, float], t: np.ndarray):
     """|e^{μt}|, cos and sin of arg e^{μt}, with μt formed in double-double."""
     re_hi, re_lo, im_hi, im_lo = mu
     p, e = _two_prod(re_hi, t)
-    with np.errstate(over="ignore", under="ignore"):
-        size = np.exp(p) * np.exp(e + re_lo * t)
+    e = e + re_lo * t
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        # past |p| ~ 700 the result is 0 or inf whatever e is (and e may be ~1e3)
+        size = np.where(np.abs(p) < 700, np.exp(p) * np.exp(e), np.exp(p + e))
     if im_hi == 0.0 and im_lo == 0.0:
         return size, np.ones_like(t), np.zeros_like(t)
     p, e = _two_prod(im_hi, t)

@@ -17,7 +17,6 @@ import pytest
 
 import laplace_springs as ls
 from laplace_springs.battery import KINDS, BatteryCase, battery_cases
-from laplace_springs.evaluate import evaluate_float
 from laplace_springs.reference import reference_motion_arb, relative_error
 
 CASES = {case.name: case for case in battery_cases()}
@@ -61,8 +60,7 @@ def test_float64_within_1e_12(name):
 @pytest.mark.parametrize("name", list(CASES))
 def test_error_estimate_bounds_the_error(name):
     case = CASES[name]
-    sol = _solution(name)
-    values, error = evaluate_float(sol._numeric, case.scene.n, _times(case), return_error=True)
+    values, error = _solution(name).evaluate(_times(case), return_error=True)
     reference = _reference(name, 40)
     scale = max(abs(float(r)) for r in reference.ravel())
     with mpmath.workdps(50):
