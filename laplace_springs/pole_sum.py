@@ -48,7 +48,7 @@ from typing import Sequence
 import mpmath
 import numpy as np
 
-__all__ = ["PoleSum", "Block", "plan_blocks", "evaluate_blocks", "THETA"]
+__all__ = ["PoleSum", "Block", "plan_blocks", "evaluate_blocks", "two_diff", "THETA"]
 
 #: A block is used while t·(its link heights) ≤ THETA.
 THETA = 1.0
@@ -266,6 +266,16 @@ def _split(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return hi, a - hi
 
 
+def two_diff(a: np.ndarray, b_hi: float, b_lo: float) -> tuple[np.ndarray, np.ndarray]:
+    """a - (b_hi + b_lo) as a double-double (hi, lo), a exact floats (Knuth's two-sum)."""
+    s = a - b_hi
+    v = s - a
+    err = (a - (s - v)) - (b_hi + v)
+    lo = err - b_lo
+    hi = s + lo
+    return hi, lo - (hi - s)
+
+
 def _two_prod(a: float, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """p + e = a·b exactly (Dekker), p = fl(a·b)."""
     p = a * b
@@ -276,18 +286,18 @@ def _two_prod(a: float, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p, np.where(np.isfinite(e), e, 0.0)
 
 
-def _centre_factor(mu: tuple[float, float, float, float], t: np.ndarray):
-    """|e^{μt}|, cos and sin of arg e^{μt}, with μt formed in double-double."""
+def _centre_factor(mu: tuple[float, float, float, float], t: np.ndarray, t_lo: np.ndarray):
+    """|e^{μt}|, cos and sin of arg e^{μt}, with μt formed in double-double (t = t + t_lo)."""
     re_hi, re_lo, im_hi, im_lo = mu
     p, e = _two_prod(re_hi, t)
-    e = e + re_lo * t
+    e = e + (re_lo * t + re_hi * t_lo)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         # past |p| ~ 700 the result is 0 or inf whatever e is (and e may be ~1e3)
         size = np.where(np.abs(p) < 700, np.exp(p) * np.exp(e), np.exp(p + e))
     if im_hi == 0.0 and im_lo == 0.0:
         return size, np.ones_like(t), np.zeros_like(t)
     p, e = _two_prod(im_hi, t)
-    e = e + im_lo * t
+    e = e + (im_lo * t + im_hi * t_lo)
     ce, se = np.cos(e), np.sin(e)
     cp, sp_ = np.cos(p), np.sin(p)
     return size, cp * ce - sp_ * se, sp_ * ce + cp * se
@@ -334,8 +344,9 @@ def first_row_exp(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return out, s
 
 
-def _block_values(block: Block, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The block's contribution (n, T) and its error bound (n, T) at times t."""
+def _block_values(block: Block, t: np.ndarray,
+                  t_lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The block's contribution (n, T) and its error bound (n, T) at times t + t_lo."""
     size = block.delta.size
     x = t[:, None] * block.delta[None, :]
     powers = np.arange(size)
@@ -344,7 +355,7 @@ def _block_values(block: Block, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rows, squarings = first_row_exp(x) if size > 1 else (np.ones((t.size, 1), complex),
                                                              np.zeros(t.size, int))
         series = (tpow * rows) @ block.d  # (T, n)
-        scale, cos, sin = _centre_factor(block.mu, t)
+        scale, cos, sin = _centre_factor(block.mu, t, t_lo)
         values = block.factor * scale[:, None] * (cos[:, None] * series.real
                                                   - sin[:, None] * series.imag)
         rho = np.abs(x).max(axis=1) if size > 1 else np.zeros(t.size)
@@ -354,9 +365,13 @@ def _block_values(block: Block, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return values.T, bound.T
 
 
-def evaluate_blocks(blocks: Sequence[Block], n: int,
-                    times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sum every block on its window: values and error bounds, each (n, len(times))."""
+def evaluate_blocks(blocks: Sequence[Block], n: int, times: np.ndarray,
+                    times_lo: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Sum every block on its window: values and error bounds, each (n, len(times)).
+
+    ``times_lo`` (optional) are low parts: the times are times + times_lo exactly.
+    """
+    times_lo = np.zeros_like(times) if times_lo is None else times_lo
     values = np.zeros((n, times.size))
     bound = np.zeros((n, times.size))
     at = np.abs(times)
@@ -364,7 +379,7 @@ def evaluate_blocks(blocks: Sequence[Block], n: int,
         sel = (at > block.t_low) & (at <= block.t_high)
         if not sel.any():
             continue
-        v, e = _block_values(block, times[sel])
+        v, e = _block_values(block, times[sel], times_lo[sel])
         values[:, sel] += v
         bound[:, sel] += e
     return values, bound

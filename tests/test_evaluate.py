@@ -173,3 +173,20 @@ def test_property_near_critical(exponent, above, x0, v0, stop):
     times = np.concatenate([[0.0, 0.5, 1.0, 2.0], np.linspace(0.0, stop, 9)])
     x = ls.solve(scene).evaluate(times)
     assert relative_error(x, reference_motion_arb(scene, times, digits=30)) <= 1e-14
+
+
+@pytest.mark.parametrize("delay", [sp.Rational(1, 3), "0.1", 0.1, sp.sqrt(2)])
+def test_delay_is_subtracted_exactly(delay):
+    # cos(ω(t − τ)) − cos(ω_n(t − τ)) over (ω_n² − ω²) at t up to 1e4, τ exact.
+    omega, omega_n = sp.Rational(1), 1 + sp.Rational(1, 10**8)
+    times = np.array([0.5, 1.0, 2.0**-40 + 1, 3333.25, 9999.875])
+    data = numeric_terms([_beat_terms(omega, omega_n)])
+    x = evaluate_float(data, 1, times, delay=delay)
+    with mpmath.workdps(50):
+        tau = (mpmath.mpf(delay) if isinstance(delay, (str, float))
+               else mpmath.mpf(str(sp.N(delay, 60))))
+        wn = mpmath.mpf(omega_n.p) / omega_n.q
+        exact = [(mpmath.cos(tv - tau) - mpmath.cos(wn * (tv - tau))) / (wn**2 - 1)
+                 for tv in map(mpmath.mpf, times)]
+    diff, scale = _errors(x[0], exact)
+    assert diff <= 1e-15 * scale
