@@ -6,6 +6,7 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
 
     laplace-springs solve vertical-pair
     laplace-springs solve vertical-pair --latex
+    laplace-springs solve wall-pair-dashpot --latex --standalone -o wall-pair-dashpot.tex
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
     laplace-springs solve three-dashpots --plot motion.png
     laplace-springs scenes
@@ -61,13 +62,17 @@ def _build_parser() -> argparse.ArgumentParser:
     output.add_argument("--pretty", action="store_true",
                         help="print each coordinate as a 2-D pretty-printed formula")
     output.add_argument("--latex", action="store_true",
-                        help="print a LaTeX aligned block instead")
+                        help="print x(t) in LaTeX (aligned blocks, named constants defined)")
     output.add_argument("--at", metavar="T1,T2,...",
                         help="print a table of values at these times (t >= 0)")
     solve.add_argument("--dps", type=int, metavar="N",
                        help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
     solve.add_argument("--plot", metavar="FILE",
                        help="also save the scene's diagram and its motion to FILE (.png, .pdf, .svg)")
+    solve.add_argument("--standalone", action="store_true",
+                       help="with --latex: a complete .tex document (pdflatex, amsmath)")
+    solve.add_argument("-o", "--output", metavar="FILE",
+                       help="with --latex: write to FILE instead of standard output")
     solve.set_defaults(run=_run_solve)
 
     scenes = commands.add_parser("scenes", help="list the bundled scenes",
@@ -183,13 +188,14 @@ def _table_lines(names: Sequence[str], times: Sequence[float], values, digits: i
 
 def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     _check_dps(args)
+    _check_latex_options(args)
     times = parse_times(args.at) if args.at is not None else None
     scene = ls.load_scene(args.scene)
     solution = ls.solve(scene)
     if args.plot:
         _save_plot(solution, args.plot)
     if args.latex:
-        print(solution.latex(), file=out)
+        _write_latex(solution, args, out)
         return
     lines = [scene.title] if scene.title else []
     if times is not None:
@@ -198,6 +204,22 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     else:
         lines += _formula_lines(scene, solution, pretty=args.pretty)
     print("\n".join(lines), file=out)
+
+
+def _check_latex_options(args: argparse.Namespace) -> None:
+    if (args.standalone or args.output) and not args.latex:
+        raise ValueError("--standalone and -o/--output go with --latex")
+
+
+def _write_latex(solution: Solution, args: argparse.Namespace, out: TextIO) -> None:
+    """The LaTeX of ``solution`` on ``out`` or, with ``-o FILE``, into FILE."""
+    text = solution.latex(standalone=args.standalone)
+    if not args.output:
+        print(text, file=out)
+        return
+    with open(args.output, "w", encoding="utf-8") as handle:
+        handle.write(text if text.endswith("\n") else text + "\n")
+    print(f"wrote {args.output}", file=out)
 
 
 def _save_plot(solution: Solution, path: str) -> None:

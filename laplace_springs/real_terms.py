@@ -291,7 +291,7 @@ def _named_quadratic_terms(group: PoleGroup) -> list[Term]:
         kind = "oscillatory"
         meaning = "natural frequency" if rate == 0 else "damped frequency"
         if not square.is_positive:
-            meaning += " (assumes ω² > 0: underdamped)"
+            meaning += ", underdamped assumed (positive radicand)"
         frequency = names.get(key, "omega", sp.sqrt(square), positive=square.is_positive or None,
                               meaning=meaning, display=sp.sqrt(shown_square) if rate != 0 else None)
     c0, c1 = _group_numerator(group)

@@ -136,11 +136,35 @@ class Solution:
         return sp.ImmutableMatrix([sp.Add(*(C[i, k] * g[k] for k in self.g_indices))
                                    for i in range(C.shape[0])])
 
-    def latex(self) -> str:
-        """x(t) as a LaTeX ``aligned`` block, one line per coordinate."""
-        lines = [rf"{_latex_name(name)}(t) &= {sp.latex(expr)}"
-                 for name, expr in zip(self.scene.names, self.x)]
-        return "\\begin{aligned}\n" + " \\\\\n".join(lines) + "\n\\end{aligned}"
+    def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
+              standalone: bool = False, markdown: bool = False) -> str:
+        """x(t) in LaTeX the way the seed writes it, with every named quantity defined.
+
+        Parameters
+        ----------
+        form : {"terms", "g"}
+            Damped sines and cosines, or x_i = Σ c_ik g_k(t) with the g_k written out.
+        resolvent : bool
+            Also Δ(λ), R(λ) = (λ²I + λB + A)⁻¹ and X(λ).
+        sylvester : bool
+            Also Sylvester's matrices and cos(√A t), sin(√A t)/√A (undamped numeric scenes).
+        standalone : bool
+            A complete ``article`` document (compiles with pdflatex).
+        markdown : bool
+            A Markdown snippet: each block between ``$$`` lines.
+
+        Returns
+        -------
+        str
+            By default one ``aligned`` block per part (x(t) and its "where" list first).
+            See :mod:`laplace_springs.latex_export` for the conventions (no imaginary
+            unit, algebraic numbers as named constants, θ(t − τ) for switched inputs).
+        """
+        from .latex_export import solution_latex
+
+        output = "document" if standalone else "markdown" if markdown else "fragment"
+        return solution_latex(self, form=form, resolvent=resolvent, sylvester=sylvester,
+                              output=output)
 
     def _repr_latex_(self) -> str:
         return "$$" + self.latex() + "$$"
@@ -191,6 +215,31 @@ class Solution:
         from .plotting import plot_energy
 
         return plot_energy(self, ax, **kw)
+
+    # -- named quantities of symbolic scenes (see laplace_springs.symbolic_forms) --
+    @property
+    def definitions(self) -> dict:
+        """Named quantity → definition for the names in :attr:`x` (ω_j, γ_j, S_j, P_j).
+
+        Empty for numeric scenes. A definition may use names listed before it.
+
+        Examples
+        --------
+        >>> from laplace_springs.scene import Scene
+        >>> sol = solve(Scene.from_matrices(M=[["m"]], K=[["k"]], x0=[1], v0=[0]))
+        >>> sol.x[0], sol.definitions
+        (cos(t*omega_1), {omega_1: sqrt(k)/sqrt(m)})
+        """
+        from .symbolic_forms import definitions
+
+        return definitions(list(self.x))
+
+    def substituted(self) -> sp.ImmutableMatrix:
+        """:attr:`x` with every named quantity replaced by its definition in the parameters."""
+        from .symbolic_forms import expand_names
+
+        return sp.ImmutableMatrix(expand_names(self.x))
+
 
 
 def _generic_values(symbols) -> dict:
