@@ -66,15 +66,18 @@ def _fastest_as_accurate(records: Sequence[Record], ours: Record) -> Record | No
 
 
 def _versions() -> str:
-    import importlib
+    """Versions of the packages involved, from their metadata (nothing is imported)."""
+    from importlib import metadata
 
-    parts = [f"Python {platform.python_version()}"]
-    for module, label in (("laplace_springs", "laplace_springs"), ("numpy", "NumPy"),
-                          ("scipy", "SciPy"), ("control", "python-control"), ("sympy", "SymPy"),
-                          ("mpmath", "mpmath"), ("flint", "python-flint")):
+    from . import __version__
+
+    parts = [f"Python {platform.python_version()}", f"laplace_springs {__version__}"]
+    for distribution, label in (("numpy", "NumPy"), ("scipy", "SciPy"),
+                                ("control", "python-control"), ("sympy", "SymPy"),
+                                ("mpmath", "mpmath"), ("python-flint", "python-flint")):
         try:
-            parts.append(f"{label} {importlib.import_module(module).__version__}")
-        except ImportError:
+            parts.append(f"{label} {metadata.version(distribution)}")
+        except metadata.PackageNotFoundError:
             parts.append(f"{label} not installed")
     return ", ".join(parts)
 

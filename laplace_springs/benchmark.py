@@ -508,6 +508,17 @@ def run_benchmark(cases: Sequence[BenchCase] | None = None, *,
     Returns
     -------
     BenchmarkResult
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> scene = Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0])
+    >>> case = BenchCase("critical", "critical", "(1 + t)e^{-t}", scene, ("0", "1", "10"))
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     result = run_benchmark([case], methods=["ours"], out_dir=out,
+    ...                            progress=False, plots=False)
+    >>> result.records[0].error < 1e-15, result.verdicts[0].on_front
+    (True, True)
     """
     from . import bench_report
 
