@@ -1,0 +1,43 @@
+"""Draw every bundled scene's diagram and motion plot into PNG files.
+
+Run ``python docs/make_figures.py [OUTDIR]`` (default docs/_static/scenes); the docs build
+calls it too. Files: ``<scene>-diagram.png`` and ``<scene>-motion.png``. The PNGs carry no
+version or date metadata, so redrawing unchanged figures leaves the files unchanged.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+
+import laplace_springs as ls  # noqa: E402
+from laplace_springs.plotting import plot_motion  # noqa: E402
+
+_METADATA = {"Software": None}
+
+
+def main(outdir: Path | str = Path(__file__).resolve().parent / "_static" / "scenes") -> list[Path]:
+    """Write the PNGs; return their paths."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name in ls.bundled_scenes():
+        scene = ls.load_scene(name)
+        solution = ls.solve(scene)
+        for kind, ax in (("diagram", scene.draw()), ("motion", plot_motion(solution))):
+            path = outdir / f"{name}-{kind}.png"
+            ax.figure.savefig(path, dpi=90, bbox_inches="tight", metadata=_METADATA)
+            plt.close(ax.figure)
+            written.append(path)
+    return written
+
+
+if __name__ == "__main__":
+    for path in main(*sys.argv[1:2]):
+        print(path)
