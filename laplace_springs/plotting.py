@@ -355,6 +355,11 @@ def _legend_names(scene: Scene) -> list[str]:
             for i, coordinate in enumerate(scene.names)]
 
 
+def _legend(ax: Axes) -> None:
+    """The legend outside the plot, on the right (as Mathematica's PlotLegends on the seed page)."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
+
+
 def _title(ax: Axes, heading: str, scene: Scene, title: str | bool) -> None:
     if title is True:
         text = heading + (f"\n{scene.title}" if scene.title else "")
@@ -403,7 +408,7 @@ def plot_motion(solution: Solution, ax: Axes | None = None, *, t_end: float | No
     ax.set_xlim(times[0], times[-1])
     ax.set_xlabel(f"Time ({time_unit})")
     ax.set_ylabel(f"Position ({length_unit})")
-    ax.legend(loc="upper right")
+    _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Mass Position vs. Time", solution.scene, title)
     return ax
@@ -441,7 +446,7 @@ def plot_phase(solution: Solution, ax: Axes | None = None, *, t_end: float | Non
     ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.set_xlabel(f"Position ({length_unit})")
     ax.set_ylabel(f"Velocity ({length_unit}/{time_unit})")
-    ax.legend(loc="upper right")
+    _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Phase portrait (dot: t = 0)", solution.scene, title)
     return ax
@@ -475,7 +480,7 @@ def plot_energy(solution: Solution, ax: Axes | None = None, *, t_end: float | No
         ax.set_ylim(bottom=0.0)
     ax.set_xlabel(f"Time ({time_unit})")
     ax.set_ylabel(f"Energy ({energy_unit})")
-    ax.legend(loc="center right")
+    _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Energy", solution.scene, title)
     return ax
@@ -547,7 +552,7 @@ def plot_frequency_response(scene: Scene, ax: Axes | None = None, *,
     ax.set_xlim(omegas[0], omegas[-1])
     ax.set_xlabel(f"Forcing frequency ω (rad/{time_unit})")
     ax.set_ylabel(f"Amplitude per unit force ({length_unit}/{force_unit})")
-    ax.legend(loc="upper right")
+    _legend(ax)
     ax.grid(alpha=0.3, which="both")
     _title(ax, "Frequency response (dotted: undamped natural frequencies)", scene, title)
     return ax
