@@ -220,8 +220,16 @@ def _digits(ratio) -> int:
 
 def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
                scale=None) -> tuple[list, list, int]:
-    """x at ``ts`` good to ``digits`` relative to max |x| (or ``scale``): values, sizes, dps."""
-    work = digits + 10
+    """x at ``ts`` good to ``digits`` relative to max |x| (or ``scale``): values, sizes, dps.
+
+    The working precision covers the digits the sum cancels (measured, then redone) and
+    the digits of the largest phase |z t| (an absolute error in z·t is one in the phase).
+    """
+    with mpmath.workdps(15):
+        reach = (max((abs(z) for z in data.poles.nodes), default=mpmath.mpf(0))
+                 * max((abs(tv) for tv in ts), default=mpmath.mpf(0)))
+    extra = _digits(reach)
+    work = digits + extra + 10
     while True:
         source = data.at_precision(work + 10)
         with mpmath.workdps(work):
@@ -229,9 +237,9 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
             top = scale if scale else max((abs(v) for row in values for v in row), default=0)
             mag = max((s for row in sizes for s in row), default=mpmath.mpf(0))
         lost = _digits(mag / top) if top else 0
-        if work - lost >= digits + 5 or work > 4 * digits + 200:
+        if work - lost - extra >= digits + 5 or work > 4 * digits + 200:
             return values, sizes, work
-        work = digits + lost + 10
+        work = digits + lost + extra + 10
 
 
 # ----------------------------------------------------------------------------- public

@@ -190,3 +190,13 @@ def test_delay_is_subtracted_exactly(delay):
                  for tv in map(mpmath.mpf, times)]
     diff, scale = _errors(x[0], exact)
     assert diff <= 1e-15 * scale
+
+
+def test_evaluate_mp_large_phase():
+    # cos(ωt) with ω = 1e4 + 1/3 at t = 1e6: a phase of 1e10 still gives 50 digits.
+    omega = 10**4 + sp.Rational(1, 3)
+    data = numeric_terms([[Term("oscillatory", 0, sp.S.Zero, omega, sp.S.One, sp.S.Zero)]])
+    x = evaluate_mp(data, 1, ["1000000"], 50)
+    with mpmath.workdps(100):
+        exact = mpmath.cos((mpmath.mpf(10**4) + mpmath.mpf(1) / 3) * 10**6)
+        assert abs(x[0, 0] - exact) <= mpmath.mpf(10) ** -49
