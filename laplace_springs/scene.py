@@ -19,7 +19,8 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from laplace_springs.errors import SceneError
-from laplace_springs.numbers import to_exact
+from laplace_springs.forcing import forcing_vector
+from laplace_springs.numbers import TIME, to_exact
 
 __all__ = ["SUPPORTS", "Component", "Scene"]
 
@@ -140,6 +141,17 @@ def _check_finite(name: str, matrix: sympy.MatrixBase) -> None:
         if not isinstance(entry, sympy.Expr) or entry.has(*_NON_FINITE):
             i, j = divmod(index, matrix.cols)
             raise SceneError(f"{name}[{i},{j}] must be a finite number, got {entry!r}")
+
+
+def _check_time_free(scene: Scene) -> None:
+    """M, C, K, x0 and v0 are constants: the time ``t`` may appear only in ``forcing``."""
+    for field in ("M", "C", "K", "x0", "v0"):
+        matrix = getattr(scene, field)
+        for index, entry in enumerate(matrix):
+            if entry.has(TIME):
+                i, j = divmod(index, matrix.cols)
+                where = f"{field}[{i},{j}]" if field in ("M", "C", "K") else f"{field}[{index}]"
+                raise SceneError(f"{where}: the time t may appear only in forcing, got {entry}")
 
 
 def _check_diagonal_masses(M: sympy.MatrixBase) -> None:
@@ -378,6 +390,10 @@ class Scene:
         The springs and dashpots, when built from components; else empty.
     mass_names : tuple of str
         The mass names, when built from components; else empty.
+    forcing : sympy.ImmutableMatrix or None
+        External forces f(t), one exact expression in :data:`laplace_springs.t` per
+        coordinate (n x 1), or ``None`` for a free (unforced) motion. See
+        :mod:`laplace_springs.forcing` for what an input may contain.
 
     Examples
     --------
@@ -410,6 +426,7 @@ class Scene:
     layout: str = "horizontal"
     components: tuple[Component, ...] = ()
     mass_names: tuple[str, ...] = ()
+    forcing: sympy.ImmutableMatrix | None = None
 
     def __post_init__(self) -> None:
         for field in ("M", "C", "K", "x0", "v0"):
@@ -435,12 +452,16 @@ class Scene:
             raise SceneError(f"layout must be one of {', '.join(LAYOUTS)}, got {self.layout!r}")
         if self.mass_names and len(self.mass_names) != n:
             raise SceneError(f"mass_names has {len(self.mass_names)} entries, expected {n}")
+        _check_time_free(self)
+        if self.forcing is not None:
+            _check_column("forcing", self.forcing.shape, n)
 
     def __repr__(self) -> str:
         title = f" {self.title!r}:" if self.title else ""
         damping = "damped" if self.is_damped else "undamped"
         plural = "s" if self.n != 1 else ""
-        return f"<Scene{title} {self.n} coordinate{plural}, {damping}>"
+        driven = ", forced" if self.is_forced else ""
+        return f"<Scene{title} {self.n} coordinate{plural}, {damping}{driven}>"
 
     # -- properties ---------------------------------------------------------
     @property
@@ -452,6 +473,11 @@ class Scene:
     def is_damped(self) -> bool:
         """Whether ``C`` has a nonzero entry."""
         return any(entry != 0 for entry in self.C)
+
+    @property
+    def is_forced(self) -> bool:
+        """Whether an external force acts (``forcing`` has a nonzero entry)."""
+        return self.forcing is not None and any(entry != 0 for entry in self.forcing)
 
     @property
     def free_symbols(self) -> frozenset[sympy.Symbol]:
@@ -466,6 +492,8 @@ class Scene:
         symbols: set[sympy.Symbol] = set()
         for matrix in (self.M, self.C, self.K, self.x0, self.v0):
             symbols |= matrix.free_symbols
+        if self.forcing is not None:
+            symbols |= self.forcing.free_symbols - {TIME}
         return frozenset(symbols)
 
     # -- derived data -------------------------------------------------------
@@ -515,6 +543,24 @@ class Scene:
                 changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n)
         return dataclasses.replace(self, **changes)
 
+    def with_forcing(self, forcing: Any) -> Scene:
+        """A new scene with other external forces (``None`` removes them).
+
+        ``forcing`` is a sequence with one entry per coordinate, or a mapping from mass
+        names (coordinate names for a scene built from matrices) to entries, missing
+        ones 0. Entries are text in ``t``, numbers or SymPy expressions
+        (see :func:`laplace_springs.forcing.parse_forcing`).
+
+        Examples
+        --------
+        >>> scene = Scene.from_matrices(M=[[1]], K=[[4]], x0=[0], v0=[0])
+        >>> scene.with_forcing(["cos(3*t)"]).forcing
+        Matrix([[cos(3*t)]])
+        """
+        keys = self.mass_names or self.names
+        values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
+        return dataclasses.replace(self, forcing=forcing_vector(values, self.n))
+
     # -- builders -----------------------------------------------------------
     @classmethod
     def from_matrices(
@@ -528,6 +574,7 @@ class Scene:
         names: Sequence[str] | None = None,
         title: str = "",
         layout: str = "horizontal",
+        forcing: Any = None,
     ) -> Scene:
         """A scene from mass, damping and stiffness matrices.
 
@@ -544,6 +591,12 @@ class Scene:
             Coordinate names; ``("x1", ..., "xn")`` by default.
         title : str, optional
         layout : {"horizontal", "vertical"}, optional
+        forcing : sequence, optional
+            External forces, one entry per coordinate: text in ``t`` such as
+            ``"10*cos(20*t)"`` or ``"Heaviside(t - 1)"`` (parsed, never evaluated),
+            numbers (constant forces) or SymPy expressions. An entry whose Laplace
+            transform is not rational times delays is a SceneError. See
+            :mod:`laplace_springs.forcing`.
 
         Returns
         -------
@@ -583,6 +636,7 @@ class Scene:
             names=_default_names(n) if names is None else tuple(names),
             title=title,
             layout=layout,
+            forcing=forcing_vector(forcing, n),
         )
 
     @classmethod
@@ -596,11 +650,13 @@ class Scene:
         names: Sequence[str] | None = None,
         title: str = "",
         layout: str = "horizontal",
+        forcing: Any = None,
     ) -> Scene:
-        """A scene from the seed's normalised form ``x'' + B x' + A x = 0``.
+        """A scene from the seed's normalised form ``x'' + B x' + A x = f(t)``.
 
         The scene has ``M = I``, ``K = A`` and ``C = B``. ``A`` need not be
-        symmetric (the seed's Example 1 has ``A = [[3, -1], [-2, 2]]``).
+        symmetric (the seed's Example 1 has ``A = [[3, -1], [-2, 2]]``). ``forcing``
+        is then a force per unit mass, as in :meth:`from_matrices`.
 
         Examples
         --------
@@ -612,7 +668,8 @@ class Scene:
         n = stiffness.rows
         damping = _optional_matrix(B, "B", stiffness, "A")
         return cls.from_matrices(
-            M=sympy.eye(n), C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title, layout=layout
+            M=sympy.eye(n), C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title,
+            layout=layout, forcing=forcing,
         )
 
     @classmethod
@@ -626,6 +683,7 @@ class Scene:
         v0: Any = None,
         title: str = "",
         layout: str = "horizontal",
+        forcing: Any = None,
     ) -> Scene:
         """A scene assembled from masses, springs and dashpots.
 
@@ -640,6 +698,8 @@ class Scene:
             support it adds ``k`` to ``K[i,i]`` only. Dashpots fill ``C`` alike.
         x0, v0 : sequence, or mapping mass name -> value, optional
             Initial data; missing entries are 0.
+        forcing : sequence, or mapping mass name -> force, optional
+            External forces on the masses (see :meth:`from_matrices`); missing ones 0.
         title : str, optional
         layout : {"horizontal", "vertical"}, optional
 
@@ -684,6 +744,8 @@ class Scene:
             layout=layout,
             components=components,
             mass_names=mass_names,
+            forcing=None if forcing is None else forcing_vector(
+                _initial_by_mass(forcing, "forcing", mass_names), n),
         )
 
     # -- drawing ------------------------------------------------------------

@@ -11,11 +11,14 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING, Sequence
 
+import mpmath
 import numpy as np
 import sympy as sp
 
 from .algebraic import numeric_value
-from .evaluate import NumericTerms, evaluate_float, evaluate_mp, numeric_terms
+from .evaluate import NumericTerms, _mp_time, evaluate_float, evaluate_mp, numeric_terms
+from .forcing import input_transform
+from .jumps import InitialJump, initial_jump, jump_residuals
 from .numbers import TIME
 from .partial_fractions import decompose
 from .real_terms import Term, group_terms, terms_expr
@@ -24,7 +27,7 @@ from .resolvent import Resolvent, lam, resolvent
 if TYPE_CHECKING:
     from .scene import Scene
 
-__all__ = ["t", "Solution", "Verification", "solve"]
+__all__ = ["t", "Piece", "Solution", "Verification", "solve"]
 
 #: Time, the variable of every solution (the results hold for t ≥ 0).
 t = TIME
@@ -35,6 +38,39 @@ _METHODS = ("auto", "exact")
 def _terms_of(decompositions) -> tuple[tuple[Term, ...], ...]:
     return tuple(tuple(term for group in pf.groups for term in group_terms(group))
                  for pf in decompositions)
+
+
+@dataclass(frozen=True)
+class Piece:
+    """One part of the motion: terms in the shifted time t − τ, switched on at t = τ.
+
+    The free response and every input starting at t = 0 form the piece with delay 0;
+    an input delayed by τ (a step or impulse at τ, a window's end) adds a piece with
+    that delay.
+
+    Attributes
+    ----------
+    delay : sympy.Expr
+        τ ≥ 0.
+    terms : tuple of tuple of Term
+        Per coordinate, real terms in the variable t − τ.
+    steady : tuple of tuple of bool
+        Per term: whether its pole is a pole of the input (steady-state part) rather
+        than of the system alone (transient part).
+    """
+
+    delay: sp.Expr
+    terms: tuple[tuple[Term, ...], ...]
+    steady: tuple[tuple[bool, ...], ...]
+
+    def expr(self, row: int, part: str = "all") -> sp.Expr:
+        """Coordinate ``row`` of this piece in :data:`t` (Heaviside-switched if τ > 0)."""
+        chosen = [term for term, steady in zip(self.terms[row], self.steady[row])
+                  if part == "all" or steady == (part == "steady")]
+        if self.delay == 0:
+            return terms_expr(chosen, t)
+        body = terms_expr(chosen, t - self.delay)
+        return sp.Heaviside(t - self.delay) * body if body != 0 else sp.S.Zero
 
 
 @dataclass(frozen=True)
@@ -65,17 +101,47 @@ class Solution:
     scene: Scene
     resolvent: Resolvent
     terms: tuple[tuple[Term, ...], ...]
+    pieces: tuple[Piece, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.pieces:  # a free motion: one piece, nothing steady
+            flags = tuple((False,) * len(row) for row in self.terms)
+            object.__setattr__(self, "pieces", (Piece(sp.S.Zero, self.terms, flags),))
 
     @cached_property
     def x(self) -> sp.ImmutableMatrix:
-        """x(t) as a SymPy column matrix in the symbol :data:`laplace_springs.t`."""
-        return sp.ImmutableMatrix([terms_expr(list(row), t) for row in self.terms])
+        """x(t) as a SymPy column matrix in the symbol :data:`laplace_springs.t`.
+
+        A response to an input delayed by τ carries the factor Heaviside(t − τ); nothing
+        else does (the whole solution holds for t ≥ 0).
+        """
+        return self._part("all")
 
     @cached_property
-    def _numeric(self) -> NumericTerms:
-        return numeric_terms(self.terms, dps=40)
+    def steady_state(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the input's poles: what the forcing sustains.
 
-    def evaluate(self, times, *, dps: int | None = None) -> np.ndarray:
+        For a damped system driven by a harmonic force this is the steady oscillation
+        left once the transient has died out. At exact resonance of an undamped
+        system the secular t·sin term belongs here (its pole is the input's).
+        Zero for a free motion.
+        """
+        return self._part("steady")
+
+    @cached_property
+    def transient(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the system's own poles only: x = transient + steady_state."""
+        return self._part("transient")
+
+    def _part(self, part: str) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix([sp.Add(*(piece.expr(i, part) for piece in self.pieces))
+                                   for i in range(self.scene.n)])
+
+    @cached_property
+    def _numeric(self) -> tuple[NumericTerms, ...]:
+        return tuple(numeric_terms(piece.terms, dps=40) for piece in self.pieces)
+
+    def evaluate(self, times, *, dps: int | None = None, return_error: bool = False):
         """Evaluate x(t) at the given times.
 
         Parameters
@@ -85,17 +151,58 @@ class Solution:
         dps : int, optional
             Decimal digits. Without it the result is float64; with it, an object array
             of mpmath numbers accurate to about that many digits.
+        return_error : bool, optional
+            Also return an array of estimated absolute error bounds (float64 only).
 
         Returns
         -------
-        numpy.ndarray
-            Shape (n, len(times)).
+        numpy.ndarray, or (numpy.ndarray, numpy.ndarray)
+            Shape (n, len(times)); with ``return_error`` the error bounds as well.
+
+        Notes
+        -----
+        Float64 evaluation is stable by construction (near-equal poles are summed in a
+        divided-difference basis, phases carried in double-double) and points whose
+        error estimate is still too large are recomputed with mpmath inside the call;
+        see :mod:`laplace_springs.evaluate`.
         """
-        times = np.atleast_1d(times) if dps is None else list(np.atleast_1d(times))
-        if dps is None:
-            return evaluate_float(self._numeric, self.scene.n, times)
-        data = numeric_terms(self.terms, dps=dps + 15)
-        return evaluate_mp(data, self.scene.n, times, dps)
+        if dps is not None:
+            if return_error:
+                raise ValueError("return_error is available for float64 evaluation only")
+            return self._evaluate_mp(list(np.atleast_1d(times)), dps)
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        n = self.scene.n
+        values, error = np.zeros((n, times.size)), np.zeros((n, times.size))
+        for piece, data in zip(self.pieces, self._numeric):
+            tau = float(piece.delay)
+            on = times >= tau if tau else np.ones(times.size, dtype=bool)
+            if not on.any():
+                continue
+            part, bound = evaluate_float(data, n, times[on] - tau, return_error=True)
+            values[:, on] += part
+            error[:, on] += bound
+        return (values, error) if return_error else values
+
+    def _evaluate_mp(self, times: list, dps: int) -> np.ndarray:
+        n = self.scene.n
+        out = np.empty((n, len(times)), dtype=object)
+        with mpmath.workdps(dps + 20):
+            ts = [_mp_time(v) for v in times]
+            out[:] = mpmath.mpf(0)
+        for piece in self.pieces:
+            with mpmath.workdps(dps + 20):
+                tau = mpmath.mpf(sp.Float(piece.delay, dps + 20)._mpf_) if piece.delay else 0
+                on = [col for col, tv in enumerate(ts) if tv >= tau]
+                shifted = [ts[col] - tau for col in on]
+            if not on:
+                continue
+            data = numeric_terms(piece.terms, dps=dps + 15)
+            part = evaluate_mp(data, n, shifted, dps)
+            with mpmath.workdps(dps):
+                for k, col in enumerate(on):
+                    for i in range(n):
+                        out[i, col] = out[i, col] + part[i, k]
+        return out
 
     @cached_property
     def g_denominator(self) -> sp.Poly:
@@ -104,7 +211,10 @@ class Solution:
 
     @cached_property
     def g_coefficients(self) -> sp.ImmutableMatrix:
-        """c_ik with x_i(t) = Σ_k c_ik g_k(t), k = 0..2n-1 (the seed's K_j and N_j)."""
+        """c_ik with x_i(t) = Σ_k c_ik g_k(t), k = 0..2n-1 (the seed's K_j and N_j).
+
+        Columns k ≥ deg Δ are zero (deg Δ < 2n when M is singular: massless nodes).
+        """
         R = self.resolvent
         scale = sp.cancel(self.g_denominator.as_expr() / R.determinant.as_expr())
         n2 = 2 * self.scene.n
@@ -178,9 +288,13 @@ class Solution:
 
         The exact expression :attr:`x` is differentiated symbolically and
         M x'' + C x' + K x is evaluated at the sample times with ``dps`` digits
-        (algebraic numbers from certified root enclosures); x(0) - x0 and x'(0) - v0
-        likewise. Symbolic parameters are given fixed generic values first (the
-        residual is an identity in them). Residuals are relative to the data's size.
+        (algebraic numbers from certified root enclosures), also at t = 0⁺ where a
+        massless node's constraint must already hold. At the start the jump conditions
+        of :func:`laplace_springs.jumps.jump_residuals` are checked: M(x(0⁺) - x0) = 0 and
+        M(x'(0⁺) - v0) + C(x(0⁺) - x0) = 0 (plus impulse terms, if any), which for an
+        invertible M is x(0) = x0, x'(0) = v0. Symbolic parameters are given fixed
+        generic values first (the residual is an identity in them). Residuals are
+        relative to the data's size.
 
         Returns
         -------
@@ -191,11 +305,46 @@ class Solution:
         generic = _generic_values(s.free_symbols)
         x = sp.Matrix(self.x)
         v = x.diff(t)
-        residual = (s.M * v.diff(t) + s.C * v + s.K * x).xreplace(generic)
-        start = [*(x.subs(t, 0) - s.x0), *(v.subs(t, 0) - s.v0)]
-        scale = max(1.0, _size([*s.x0, *s.v0], generic, 20))
-        ode = _size([e.subs(t, sp.Rational(tv)) for e in residual for tv in samples], {}, dps)
+        force = sp.Matrix(s.forcing) if s.is_forced else sp.zeros(s.n, 1)
+        residual = (s.M * v.diff(t) + s.C * v + s.K * x - force).xreplace(generic)
+        residual = residual.replace(sp.DiracDelta, lambda *args: sp.S.Zero)  # 0 off the delays
+        start = jump_residuals(s, x.subs(t, 0) - s.x0, v.subs(t, 0) - s.v0 - self._kick(),
+                               self.initial_jump.impulses)
+        start = [sp.sympify(e).xreplace(generic) for e in start]
+        times = _sample_times(samples, [piece.delay for piece in self.pieces])
+        sizes = [*s.x0, *s.v0, *(f.subs(t, tv) for f in force.xreplace(generic) for tv in times)]
+        scale = max(1.0, _size([e.replace(sp.DiracDelta, lambda *a: 0) for e in sizes], generic, 20))
+        ode = _size([e.subs(t, tv) for e in residual for tv in times], {}, dps)
         return Verification(ode / scale, _size(start, generic, dps) / scale, 10.0 ** (10 - dps))
+
+    def _kick(self) -> sp.Matrix:
+        """The velocity change M⁻¹J of impulses J·δ(t) in the forcing (zero without)."""
+        s = self.scene
+        if not s.is_forced or not s.forcing.has(sp.DiracDelta):
+            return sp.zeros(s.n, 1)
+        inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(s.forcing)]
+        J = sp.Matrix([sp.limit(dict(T.parts).get(sp.S.Zero, 0), lam, sp.oo) for T in inputs])
+        return s.M.pinv() * J if J.has(sp.Symbol) or s.M.det() == 0 else s.M.inv() * J
+
+    @cached_property
+    def initial_jump(self) -> InitialJump:
+        """x(0⁺), x'(0⁺) and what jumped at t = 0 (nothing unless M is singular).
+
+        A massless node joined only by springs starts where its springs balance; one with
+        a dashpot keeps its position but takes the velocity its dashpot law sets. Masses
+        keep position and velocity. ``impulses`` lists δ^(k) terms of x at t = 0 (only
+        non-physical, indefinite data produce them). From X(λ) at λ = ∞, exactly.
+
+        Examples
+        --------
+        >>> from laplace_springs.scene import Scene
+        >>> scene = Scene.from_components(masses={"n": 0, "m": 1},
+        ...     springs={"k1": ("wall", "n", 3), "k2": ("n", "m", 2)}, x0=[1, 2], v0=[0, 1])
+        >>> jump = solve(scene).initial_jump
+        >>> jump.x_plus.T, jump.position.T, jump.velocity.T
+        (Matrix([[4/5, 2]]), Matrix([[-1/5, 0]]), Matrix([[2/5, 0]]))
+        """
+        return initial_jump(self.resolvent)
 
     # -- plots (see laplace_springs.plotting; need matplotlib) ---------------
     def plot(self, ax=None, **kw):
@@ -240,6 +389,16 @@ class Solution:
 
         return sp.ImmutableMatrix(expand_names(self.x))
 
+
+def _sample_times(samples: Sequence, delays: Sequence[sp.Expr]) -> list[sp.Expr]:
+    """t = 0 and the samples, moved off the switching times of delayed inputs."""
+    times = [sp.S.Zero]
+    for tv in samples:
+        value = sp.Rational(tv)
+        while any(value == d for d in delays):
+            value += sp.Rational(1, 7)
+        times.append(value)
+    return times
 
 
 def _generic_values(symbols) -> dict:
@@ -290,4 +449,52 @@ def solve(scene: Scene, *, method: str = "auto") -> Solution:
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
     R = resolvent(scene)
-    return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
+    if not scene.is_forced:
+        return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
+    pieces = _forced_pieces(scene, R)
+    return Solution(scene, R, pieces[0].terms, pieces)
+
+
+def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
+    """Pieces of X(λ) = adj·[r(λ) + F(λ)]/Δ: one per delay of the inputs (delay 0 first).
+
+    For each delay τ the inputs' rational parts R_τj = P_j/Q_j are put over their common
+    denominator D_τ; the piece is adj·(D_τ F_τ + [τ = 0] D_τ r)/(Δ D_τ), inverted by the
+    same partial-fraction engine. A pole group whose factor divides D_τ is steady state.
+    """
+    inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
+    delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
+    pieces = []
+    for tau in delays:
+        rational = [dict(T.parts).get(tau, sp.S.Zero) for T in inputs]
+        fractions = [sp.fraction(sp.cancel(r)) for r in rational]
+        D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
+        load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
+        numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)),
+                          _poly(0)) for i in range(scene.n)]
+        if tau == 0:
+            numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
+        decompositions = decompose(numerators, R.determinant * D)
+        rows, flags = [], []
+        for pf in decompositions:
+            row, flag = [], []
+            for group in pf.groups:
+                steady = _divides(group.factor, D)
+                for term in group_terms(group):
+                    row.append(term)
+                    flag.append(steady)
+            rows.append(tuple(row))
+            flags.append(tuple(flag))
+        pieces.append(Piece(tau, tuple(rows), tuple(flags)))
+    return tuple(pieces)
+
+
+def _poly(expr) -> sp.Poly:
+    return sp.Poly(sp.expand(expr), lam)
+
+
+def _divides(factor: sp.Poly, D: sp.Poly) -> bool:
+    """Whether the irreducible ``factor`` divides ``D`` (over a common field)."""
+    if D.degree() <= 0:
+        return False
+    return sp.rem(D.as_expr(), factor.as_expr(), lam) == 0
