@@ -265,6 +265,8 @@ def _pairs(items: Mapping[str, Any] | Iterable[Sequence[Any]], what: str, width:
     """``(label, rest)`` pairs from a mapping ``label -> rest`` or rows ``(label, *rest)``."""
     if isinstance(items, Mapping):
         return list(items.items())
+    if isinstance(items, (str, bytes)) or not isinstance(items, Iterable):
+        raise SceneError(f"{what}: expected a table (label -> ...) or a list of rows, got {items!r}")
     pairs = []
     for row in items:
         if isinstance(row, str) or not isinstance(row, Sequence) or len(row) != width + 1:
