@@ -72,6 +72,9 @@ _STEP = sp.Function("theta")
 class _Printer(LatexPrinter):
     """SymPy's LaTeX printer with the conventions of this module."""
 
+    def _as_ordered_terms(self, expr, order=None):
+        return sorted(super()._as_ordered_terms(expr, order=order), key=_reading_order)
+
     def _print_Heaviside(self, expr, exp=None):
         tex = r"\theta\left(%s\right)" % self._print(expr.args[0])
         return f"{tex}^{{{exp}}}" if exp else tex
@@ -104,7 +107,7 @@ def _rhs_lines(expr: sp.Expr, width: int = LINE_WIDTH) -> list[str]:
     if not isinstance(expr, sp.Add):
         return [_tex(expr)]
     pieces = []
-    for i, term in enumerate(sorted(printer._as_ordered_terms(expr), key=_reading_order)):
+    for i, term in enumerate(printer._as_ordered_terms(expr)):
         sign = "+ " if i else ""
         if term.could_extract_minus_sign():
             sign, term = "- ", -term
@@ -135,7 +138,7 @@ def _reading_order(term: sp.Expr) -> tuple:
     waves = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.cos, sp.sin, sp.cosh, sp.sinh))
     rates = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.exp))
     kind = 0 if term.has(sp.cos, sp.cosh) else 1
-    power = sp.degree(term, TIME) if term.is_polynomial(TIME) else 0
+    power = sp.degree(term, TIME) if (waves or rates) and term.is_polynomial(TIME) else 0
     return (tuple(waves), tuple(rates), kind, power)
 
 
@@ -223,7 +226,7 @@ class _Constants:
         if not expr.has(sp.CRootOf):
             return expr
         if isinstance(expr, sp.Add):
-            return sp.Add(*(self._name_coefficients(a) for a in expr.args))
+            return sp.Add(*(self._name_coefficients(a) for a in sorted(expr.args, key=_reading_order)))
         if isinstance(expr, sp.Mul):
             timed = [a for a in expr.args if a.has(TIME)]
             constant = sp.Mul(*(a for a in expr.args if not a.has(TIME)))
@@ -250,26 +253,26 @@ class _Constants:
         """The "where" rows: roots first, then the named coefficients."""
         rows = []
         for root, names in self.roots.items():
-            poly = _tex(root.poly.as_expr())
+            poly = _poly_tex(sp.Poly(root.poly.as_expr(), root.poly.gen))
             if len(names) == 1:
                 rows.append(rf"{_tex(names[0])} &\approx {_number(root)} "
-                            rf"&& \text{{a root of }} {poly}")
+                            rf"\quad \text{{(a root of }} {poly}\text{{)}}")
             else:
                 alpha, beta = names
                 rows.append(rf"{_tex(alpha)} &\approx {_number(sp.re(root))}, \quad "
-                            rf"{_tex(beta)} \approx {_number(sp.im(root))} "
-                            rf"&& \left(\lambda - {_tex(alpha)}\right)^{{2}} + {_tex(beta)}^{{2}}"
-                            rf" \text{{ is a factor of }} {poly}")
+                            rf"{_tex(beta)} \approx {_number(sp.im(root))}")
+                rows.append(rf"&\quad \text{{(}}\left(\lambda - {_tex(alpha)}\right)^{{2}} + "
+                            rf"{_tex(beta)}^{{2}} \text{{ is a factor of }} {poly}\text{{)}}")
         mapping = self._root_map()
         for expr, name in self.coefficients.items():
-            exact = _tex(expr.xreplace(mapping))
-            rows.append(rf"{_tex(name)} &= {exact} \approx {_number(expr)}")
+            rows += _equation_rows(_tex(name), expr.xreplace(mapping))
+            rows[-1] += rf" \approx {_number(expr)}"
         return rows
 
 
 def _root_order(root: sp.CRootOf) -> tuple:
     value = complex(numeric_value(root, 20))
-    return (str(root.poly.as_expr()), value.imag != 0, value.real, abs(value.imag))
+    return (value.imag != 0, abs(value.imag), value.real, str(root.poly.as_expr()))
 
 
 def _is_real_root(root: sp.CRootOf) -> bool:
@@ -305,6 +308,23 @@ class LatexWriter:
             self.named.append(e)
             out.append(self.constants.replace(e))
         return out
+
+    def equation(self, lhs: str, expr: sp.Expr) -> list[str]:
+        """Rows ``lhs &= expr`` (split over lines if long), names registered.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from laplace_springs import t
+        >>> writer = LatexWriter()
+        >>> x = sp.Heaviside(t - 2) * sp.sin(t - 2) + sp.Heaviside(t) * sp.cos(t)
+        >>> print(*writer.equation("x(t)", x))
+        x(t) &= \\cos{\\left(t \\right)} + \\sin{\\left(t - 2 \\right)} \\theta\\left(t - 2\\right)
+        >>> writer.where_rows()[0].endswith("{unit step}")
+        True
+        """
+        (prepared,) = self.prepare([expr])
+        return _equation_rows(lhs, prepared)
 
     def where_rows(self) -> list[str]:
         """Rows defining every named quantity and constant used so far."""
@@ -358,13 +378,13 @@ def _escape_text(text: str) -> str:
 
 
 def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | None = None) -> str:
-    """A standalone ``article`` (amsmath, amssymb, geometry) with each block in ``\\[ \\]``."""
+    """A standalone ``article`` (amsmath, amssymb, geometry), each block an ``align*``."""
     parts = []
     if title:
         parts.append(r"\section*{%s}" % _escape_text(title))
     if text:
         parts.append(_escape_text(" ".join(text.split())))
-    parts += [f"\\[\n{block}\n\\]" for block in blocks]
+    parts += [block.replace("{aligned}", "{align*}") for block in blocks]  # breaks across pages
     return _DOCUMENT % "\n\n".join(parts)
 
 
@@ -374,8 +394,7 @@ def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | 
 def _motion_rows(writer: LatexWriter, sol: Solution, form: str) -> list[str]:
     names = [latex_name(n) for n in sol.scene.names]
     if form == "terms":
-        exprs = writer.prepare(list(sol.x))
-        return [row for name, e in zip(names, exprs) for row in _equation_rows(f"{name}(t)", e)]
+        return [row for name, e in zip(names, sol.x) for row in writer.equation(f"{name}(t)", e)]
     if form != "g":
         raise ValueError(f"form must be 'terms' or 'g', got {form!r}")
     C, basis = sol.g_coefficients, sol.g_basis
