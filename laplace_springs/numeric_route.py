@@ -130,10 +130,6 @@ class _Reduced:
 
 
 def _check_invertible(M: np.ndarray) -> None:
-    zero = [i for i in range(M.shape[0]) if M[i, i] == 0 and not M[i].any()]
-    if zero:
-        raise SceneError(f"the numeric route needs an invertible mass matrix, but coordinate "
-                         f"{zero[0]} is massless (M[{zero[0]},{zero[0]}] = 0); use method='exact'")
     if np.linalg.cond(M) > 1e14:
         raise SceneError(f"the numeric route needs an invertible mass matrix, but M is singular "
                          f"to working precision (condition number {np.linalg.cond(M):.3g})")
@@ -155,6 +151,39 @@ def _reduce(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray, v0: np.
 def _norm(A: np.ndarray) -> float:
     """sqrt(‖A‖₁‖A‖∞): an upper bound on ‖A‖₂ within a factor √n, without an SVD."""
     return float(math.sqrt(np.linalg.norm(A, 1) * np.linalg.norm(A, np.inf)))
+
+
+def massless_nodes(M: np.ndarray) -> list[int]:
+    """Indices whose row and column of M are zero (massless nodes)."""
+    return [i for i in range(len(M)) if not M[i].any() and not M[:, i].any()]
+
+
+def _massless_system(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                     z: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """y' = Z y with y = [x; x_m'] when the massless nodes z are held by dashpots.
+
+    Their rows give C_zz x_z' = -(K x)_z - C_zm x_m', so x_z' is a function of the state
+    and x_z is continuous at t = 0 (an invertible C_zz admits no jump); v0 of the
+    massless nodes plays no role, as in the transform X(λ).
+    """
+    n = len(M)
+    m = [i for i in range(n) if i not in z]
+    Czz, Mmm = C[np.ix_(z, z)], M[np.ix_(m, m)]
+    if np.linalg.cond(Czz) > 1e12:
+        raise SceneError(f"the numeric route handles massless nodes held by dashpots (invertible C "
+                         f"block on them); nodes {z} are not: use method='exact'")
+    if m and np.linalg.cond(Mmm) > 1e14:
+        raise SceneError("the numeric route needs an invertible mass matrix on the massive nodes")
+    P = -np.linalg.solve(Czz, K[z, :])
+    Q = -np.linalg.solve(Czz, C[np.ix_(z, m)])
+    Cmz = C[np.ix_(m, z)]
+    Z = np.zeros((n + len(m), n + len(m)))
+    Z[m, n + np.arange(len(m))] = 1
+    Z[z, :n], Z[z, n:] = P, Q
+    if m:
+        Z[n:, :n] = -np.linalg.solve(Mmm, K[m, :] + Cmz @ P)
+        Z[n:, n:] = -np.linalg.solve(Mmm, C[np.ix_(m, m)] + Cmz @ Q)
+    return Z, np.concatenate([x0, v0[m]])
 
 
 def _scaling(reduced: _Reduced) -> float:
@@ -484,29 +513,39 @@ def decompose_numeric(scene: Scene) -> Modes:
     (0, 1, array([-1.+0.j, -1.+0.j]))
     """
     M, C, K, x0, v0 = scene_arrays(scene)
-    reduced = _reduce(M, C, K, x0, v0)
-    gamma = _scaling(reduced)
-    Z, y0 = _companion(reduced, gamma)
+    z = massless_nodes(M)
+    if z:  # the state is [x; massive velocities]; time scaled by ‖Z‖ only
+        Z, y0 = _massless_system(M, C, K, x0, v0, z)
+        gamma = _norm(Z) or 1.0
+        Z, back = Z / gamma, np.eye(len(M))
+    else:
+        reduced = _reduce(M, C, K, x0, v0)
+        gamma = _scaling(reduced)
+        Z, y0 = _companion(reduced, gamma)
+        back = reduced.back
     mu, V = np.linalg.eig(Z)
     V = V / np.linalg.norm(V, axis=0)
     W = _inverse(V)
     kappa = _condition_numbers(V, W)
     scale = max(_norm(Z), _EPS)
     groups = _groups(mu, kappa, scale)
-    mu, error = _newton_step(Z, mu, V, W, kappa)
+    if z:
+        error = _EPS * kappa * scale
+    else:
+        mu, error = _newton_step(Z, mu, V, W, kappa)
     simple, X, blocks, warnings = _basis(Z, mu, V, groups)
     Xinv = W[simple] if len(simple) == len(mu) else _inverse(X)
-    return _modes(reduced, gamma, scale, mu[simple], error[simple], X, Xinv, blocks, y0, warnings)
+    return _modes(back, gamma, scale, mu[simple], error[simple], X, Xinv, blocks, y0, warnings)
 
 
-def _modes(reduced: _Reduced, gamma: float, scale: float, mu_simple: np.ndarray, error: np.ndarray,
+def _modes(back: np.ndarray, gamma: float, scale: float, mu_simple: np.ndarray, error: np.ndarray,
            X: np.ndarray, Xinv: np.ndarray, blocks: list[np.ndarray], y0: np.ndarray,
            warnings: list[str]) -> Modes:
-    n = len(reduced.K)
+    n = len(back)
     c = Xinv @ y0
     kappa = _condition_numbers(X, Xinv)
     k = len(mu_simple)
-    F = reduced.back @ X[:n]
+    F = back @ X[:n]
     out_blocks, start = [], k
     for T in blocks:
         m = len(T)
@@ -617,22 +656,48 @@ def _arb_time(value, digits: int):
     return _arb_entry(sp.sympify(value), digits)
 
 
+def _arb_sub(A, rows: list[int], cols: list[int]):
+    from flint import arb_mat
+
+    return arb_mat(len(rows), len(cols), [A[i, j] for i in rows for j in cols])
+
+
 def _arb_first_order(scene: Scene, digits: int):
-    """Z = [[0, I], [-M⁻¹K, -M⁻¹C]] and y₀ in arb, at the current flint precision."""
+    """y' = Z y, y₀ in arb at the current flint precision: y = [x; x'], or [x; x_m'] with
+    massless nodes z (rows and columns of M zero) held by dashpots, as in the float route."""
     from flint import arb_mat
 
     n = scene.n
+    M, C, K = (_arb_matrix(getattr(scene, name), digits) for name in ("M", "C", "K"))
+    z = [i for i in range(n) if all(scene.M[i, j] == 0 and scene.M[j, i] == 0 for j in range(n))]
+    m = [i for i in range(n) if i not in z]
+    every = list(range(n))
     try:
-        Minv = _arb_matrix(scene.M, digits).inv()
+        Mmm_inv = _arb_sub(M, m, m).inv() if m else None
+        Czz_inv = _arb_sub(C, z, z).inv() if z else None
     except ZeroDivisionError:
-        raise SceneError("the numeric route needs an invertible mass matrix M") from None
-    A, B = Minv * _arb_matrix(scene.K, digits), Minv * _arb_matrix(scene.C, digits)
-    Z = arb_mat(2 * n, 2 * n)
-    for i in range(n):
-        Z[i, n + i] = 1
+        raise SceneError("the numeric route needs an invertible mass block and, for massless "
+                         "nodes, an invertible dashpot block on them") from None
+    Z = arb_mat(n + len(m), n + len(m))
+    Avel, Bvel = -_arb_sub(K, m, every), -_arb_sub(C, m, m)
+    if z:
+        P, Q = -(Czz_inv * _arb_sub(K, z, every)), -(Czz_inv * _arb_sub(C, z, m))
+        Cmz = _arb_sub(C, m, z)
+        Avel, Bvel = Avel - Cmz * P, Bvel - Cmz * Q
+        for row, i in enumerate(z):
+            for j in range(n):
+                Z[i, j] = P[row, j]
+            for j in range(len(m)):
+                Z[i, n + j] = Q[row, j]
+    if m:
+        Avel, Bvel = Mmm_inv * Avel, Mmm_inv * Bvel
+    for row, i in enumerate(m):
+        Z[i, n + row] = 1
         for j in range(n):
-            Z[n + i, j], Z[n + i, n + j] = -A[i, j], -B[i, j]
-    return Z, _arb_matrix(sp.Matrix([*scene.x0, *scene.v0]), digits)
+            Z[n + row, j] = Avel[row, j]
+        for j in range(len(m)):
+            Z[n + row, n + j] = Bvel[row, j]
+    return Z, _arb_matrix(sp.Matrix([*scene.x0, *[scene.v0[i] for i in m]]), digits)
 
 
 def certified_motion(scene: Scene, times: Sequence, dps: int, *, max_bits: int = 8192):
@@ -761,8 +826,9 @@ class NumericSolution:
         """Residuals of M x'' + C x' + K x and of the initial data, in float64.
 
         x, x', x'' come from the decomposition at t = 0 and the sample times; the ODE
-        residual is relative to max(|M||x''| + |C||x'| + |K||x|), the initial one to
-        max(|x0|, |v0|).
+        residual is relative to max(|M||x''| + |C||x'| + |K||x| + |M|(r²|x| + r|x'|)),
+        r the size of the first-order matrix, the initial one to max(|x0|, |v0|). The
+        velocities of massless nodes are not compared with v0: the constraint sets them.
 
         Examples
         --------
@@ -777,7 +843,8 @@ class NumericSolution:
         rate = self.modes.norm  # floor for the scale, e.g. for a free mass where x'' = 0
         size = np.max(np.abs(M) @ np.abs(a) + np.abs(C) @ np.abs(v) + np.abs(K) @ np.abs(x)
                       + np.abs(M) @ (rate**2 * np.abs(x) + rate * np.abs(v)))
-        start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[:, 0] - v0])))
+        massive = [i for i in range(len(M)) if i not in massless_nodes(M)]  # others: v0 has no role
+        start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[massive, 0] - v0[massive]])))
         data = np.max(np.abs(np.concatenate([x0, v0])))
         return Verification(float(residual / size) if size else float(residual),
                             float(start / data) if data else float(start), tolerance)
@@ -789,6 +856,10 @@ class NumericSolution:
         slowest = float(-poles.real.max()) if len(poles) else 0.0
         slowest = 0.0 if abs(slowest) <= 1e-12 * max(np.max(np.abs(poles), initial=0.0), 1e-300) else slowest
         warnings = "".join(f"; warning: {w}" for w in self.modes.warnings)
+        massless = massless_nodes(scene_arrays(self.scene)[0])
+        if massless:
+            names = ", ".join(self.scene.names[i] for i in massless)
+            blocks += f", massless {names} (velocity set by the constraint at 0+, v0 unused)"
         return (f"NumericSolution({self.scene!r}: {len(poles)} poles{blocks}, slowest decay rate "
                 f"{slowest:.3g}; method='numeric': {self.reason}{warnings})")
 

@@ -185,9 +185,25 @@ def test_symbolic_scene_is_refused_by_name():
         solve_numeric(scene)
 
 
-def test_massless_node_is_refused_clearly():
-    # a Maxwell element: wall - spring - massless node - dashpot - mass
-    scene = Scene.from_matrices(M=[[0, 0], [0, 1]], C=[[1, -1], [-1, 1]], K=[[1, 0], [0, 0]],
-                                x0=[0, 1], v0=[0, 0])
+def maxwell(k_spring_only: bool = False) -> Scene:
+    """wall - k1 - massless node - dashpot c - mass m - k2 - wall (a Maxwell element)."""
+    C = [[0, 0], [0, 0]] if k_spring_only else [[2, -2], [-2, 2]]
+    return Scene.from_matrices(M=[[0, 0], [0, 1]], C=C, K=[[3, -1 if k_spring_only else 0],
+                                                            [-1 if k_spring_only else 0, 1]],
+                               x0=["1/2", 1], v0=[0, "-1/3"])
+
+
+def test_massless_node_held_by_a_dashpot():
+    scene = maxwell()
+    sol = solve_numeric(scene)
+    assert len(sol.poles) == 3  # deg Δ = 2·1 + 1
+    assert relative_error(sol.evaluate(TIMES), reference_motion_arb(scene, list(TIMES), digits=25)) < 1e-12
+    decimals = [repr(float(v)) for v in TIMES]  # the same decimal times for both routes
+    values = sol.evaluate(decimals, dps=30)
+    assert relative_error(values, reference_motion_arb(scene, decimals, digits=35)) < 1e-28
+    assert sol.verify()
+
+
+def test_massless_node_without_a_dashpot_is_refused_clearly():
     with pytest.raises(SceneError, match="massless"):
-        solve_numeric(scene)
+        solve_numeric(maxwell(k_spring_only=True))
