@@ -102,6 +102,24 @@ class Resolvent:
         delta = self.determinant.as_expr()
         return sp.ImmutableMatrix([sp.cancel(N.as_expr() / delta) for N in self.numerators])
 
+    def latex(self, *, standalone: bool = False, markdown: bool = False) -> str:
+        """Δ(λ), the seed's R(λ) = (λ²I + λB + A)⁻¹ and X(λ) in LaTeX.
+
+        One ``aligned`` block; ``standalone`` gives a compilable document, ``markdown``
+        a ``$$`` snippet (see :mod:`laplace_springs.latex_export`).
+
+        Examples
+        --------
+        >>> from laplace_springs.scene import Scene
+        >>> R = resolvent(Scene.from_normalized(A=[[3, -1], [-2, 2]], x0=[1, 0], v0=[0, 0]))
+        >>> print(R.latex().splitlines()[1])
+        \\Delta(\\lambda) &= \\lambda^{4} + 5 \\lambda^{2} + 4 \\\\
+        """
+        from .latex_export import resolvent_latex
+
+        output = "document" if standalone else "markdown" if markdown else "fragment"
+        return resolvent_latex(self, output=output)
+
 
 def _adjugate_and_determinant(P: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
     """Fraction-free adjugate and determinant of a polynomial matrix."""

@@ -21,6 +21,7 @@ import sympy as sp
 
 import laplace_springs as ls
 from laplace_springs.latex_export import LatexWriter, resolvent_latex, sylvester_latex
+from laplace_springs.reference import reference_motion
 
 parse_latex = pytest.importorskip("sympy.parsing.latex").parse_latex
 pytest.importorskip("antlr4")
@@ -119,7 +120,7 @@ def test_round_trip_is_the_same_function(scene_latex):
     scene, text = scene_latex
     eqs, values = motion_rows(text)
     assert [lhs for lhs, _ in eqs] == [f"x_{{{i + 1}}}(t)" for i in range(scene.n)]
-    reference = ls.reference.reference_motion(scene, TIMES, dps=30)
+    reference = reference_motion(scene, TIMES, dps=30)
     for i, (_, rhs) in enumerate(eqs):
         expr = parse(rhs)
         unknown = {str(s) for s in expr.free_symbols} - set(values) - {"t"}
@@ -145,7 +146,7 @@ def test_g_form_round_trip():
     (delta,) = [rhs for lhs, rhs in eqs if lhs == r"\Delta(\lambda)"]
     lam = sp.Symbol("lambda")
     assert sp.expand(parse(delta) - (25 * lam**4 + 10 * lam**3 + 126 * lam**2 + 25 * lam + 100)) == 0
-    reference = ls.reference.reference_motion(scene, TIMES, dps=30)
+    reference = reference_motion(scene, TIMES, dps=30)
     for i, (lhs, rhs) in enumerate(eqs[:scene.n]):
         expr = parse(rhs).replace(lambda f: isinstance(f, sp.Function) and str(f.func).startswith("g_"),
                                   lambda f: g[int(str(f.func).strip("g_{}"))])
@@ -231,7 +232,7 @@ def test_example3_symbolic_latex_round_trip():
             values[str(parse(lhs))] = sp.N(parse(rhs).xreplace(
                 {s: values[str(s)] for s in parse(rhs).free_symbols}), 30)
     assert {"omega_{1}", "omega_{2}"} <= set(values)
-    reference = ls.reference.reference_motion(example3(SEED3), TIMES, dps=30)
+    reference = reference_motion(example3(SEED3), TIMES, dps=30)
     motion = [rhs for lhs, rhs in eqs if lhs.endswith("(t)")]
     for i, rhs in enumerate(motion):
         expr = parse(rhs)
@@ -272,3 +273,24 @@ def test_numbers_in_where_rows_are_plain_decimals():
     text = ls.solve(ls.load_scene("three-dashpots")).latex()
     values = name_values(blocks(text)[0])
     assert values and all(np.isfinite(float(v)) for v in values.values())
+
+
+def test_cli_writes_a_standalone_document(tmp_path, capsys):
+    from laplace_springs.cli import main
+    path = tmp_path / "wall-pair.tex"
+    assert main(["solve", "wall-pair", "--latex", "--standalone", "-o", str(path)]) == 0
+    text = path.read_text(encoding="utf-8")
+    assert text.startswith("\\documentclass") and "\\end{document}" in text
+    assert str(path) in capsys.readouterr().out
+    assert main(["solve", "wall-pair", "--standalone"]) == 2
+    assert "--latex" in capsys.readouterr().err
+
+
+def test_resolvent_method_and_markdown():
+    R = ls.resolvent(ls.load_scene("wall-pair"))
+    assert R.latex() == resolvent_latex(R)
+    snippet = R.latex(markdown=True)
+    assert snippet.startswith("$$\n") and snippet.rstrip().endswith("$$")
+    for row in rows(blocks(R.latex())[0]):
+        if "bmatrix" not in row:
+            mathtext_ok(row)
