@@ -47,7 +47,7 @@ from sympy.printing.latex import LatexPrinter
 
 from .algebraic import numeric_value
 from .numbers import TIME
-from .symbolic_forms import NamedQuantity, definitions
+from .symbolic_forms import definitions, named, named_quantities
 
 if TYPE_CHECKING:
     from .resolvent import Resolvent
@@ -296,18 +296,38 @@ class LatexWriter:
     constants: _Constants = field(default_factory=_Constants)
     named: list[sp.Expr] = field(default_factory=list)
     has_step: bool = False
+    renames: dict = field(default_factory=dict)
+    taken: dict = field(default_factory=dict)
 
     def prepare(self, exprs: Sequence[sp.Expr]) -> list[sp.Expr]:
         """Drop θ(t), note θ(t − τ), name algebraic numbers; returns the printable forms."""
         out = []
         exprs = [sp.sympify(e).replace(lambda h: isinstance(h, sp.Heaviside) and h.args[0] == TIME,
                                        lambda h: sp.S.One) for e in exprs]
+        exprs = self._distinct_names(exprs)
         self.constants.register_roots(exprs)
         for e in exprs:
             self.has_step |= e.has(sp.Heaviside)
             self.named.append(e)
             out.append(self.constants.replace(e))
         return out
+
+    def _distinct_names(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
+        """Re-index named quantities that share a printed name but differ (ω₁ of two factors)."""
+        for q in named_quantities(exprs):
+            if q in self.renames:
+                continue
+            key = (q.base, q.index)
+            if self.taken.setdefault(key, q) == q:
+                self.renames[q] = q
+                continue
+            index = 1 + max(i for base, i in self.taken if base == q.base)
+            display = None if q.display is None else q.display.xreplace(self.renames)
+            twin = named(q.base, index, q.definition, positive=q.positive, meaning=q.meaning,
+                         display=display)
+            self.taken[(q.base, index)] = twin
+            self.renames[q] = twin
+        return [e.xreplace(self.renames) for e in exprs]
 
     def equation(self, lhs: str, expr: sp.Expr) -> list[str]:
         """Rows ``lhs &= expr`` (split over lines if long), names registered.

@@ -294,3 +294,27 @@ def test_resolvent_method_and_markdown():
     for row in rows(blocks(R.latex())[0]):
         if "bmatrix" not in row:
             mathtext_ok(row)
+
+
+def test_two_factors_print_two_distinct_frequencies():
+    scene = ls.Scene.from_components(
+        masses={"m1": "m", "m2": "m"},
+        springs={"k1": ("wall", "m1", "k"), "k2": ("m1", "m2", "K"), "k3": ("m2", "wall", "k")},
+        x0=[1, 0], v0=[0, 0])
+    eqs = equations(blocks(ls.solve(scene).latex())[0])
+    defined = [lhs for lhs, _ in eqs if not lhs.endswith("(t)")]
+    assert defined == [r"\omega_{1}", r"\omega_{2}"]
+    values = {"m": 5, "k": 2, "K": 3}
+    numbers = {}
+    for lhs, rhs in eqs:
+        if lhs in defined:
+            expr = parse(rhs.split("&&")[0])
+            numbers[str(parse(lhs))] = expr.xreplace({s: values[str(s)] for s in expr.free_symbols})
+    numeric_scene = ls.Scene.from_components(
+        masses={"m1": 5, "m2": 5},
+        springs={"k1": ("wall", "m1", 2), "k2": ("m1", "m2", 3), "k3": ("m2", "wall", 2)},
+        x0=[1, 0], v0=[0, 0])
+    reference = reference_motion(numeric_scene, TIMES, dps=30)
+    for i, (_, rhs) in enumerate(eqs[:2]):
+        for time, ref in zip(TIMES, reference[i]):
+            assert abs(numeric(parse(rhs), numbers, time).real - float(ref)) < 1e-15
