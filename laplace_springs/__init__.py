@@ -11,7 +11,10 @@ Matrix([
 """
 
 from .errors import InversionError, SceneError
+from .forcing import cosine, impulse, ramp, sine, step
+from .frequency import frequency_response, omega, plot_frequency_response, steady_state_amplitude
 from .inverse import inverse_laplace, inverse_laplace_terms
+from .modes import Mode, modes
 from .partial_fractions import partial_fractions
 from .resolvent import Resolvent, lam, resolvent
 from .scene import Scene
@@ -22,5 +25,8 @@ __all__ = [
     "Scene", "SceneError", "InversionError", "load_scene", "bundled_scenes",
     "resolvent", "Resolvent", "lam", "partial_fractions", "inverse_laplace",
     "inverse_laplace_terms", "solve", "Solution", "t",
+    "cosine", "sine", "step", "impulse", "ramp",
+    "modes", "Mode", "frequency_response", "steady_state_amplitude",
+    "plot_frequency_response", "omega",
 ]
 __version__ = "0.1.0"

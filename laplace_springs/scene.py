@@ -563,6 +563,21 @@ class Scene:
         values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
         return dataclasses.replace(self, forcing=forcing_vector(values, self.n))
 
+    def modes(self):
+        """Natural and damped frequencies, damping ratios and mode shapes.
+
+        See :func:`laplace_springs.modes.modes`.
+
+        Examples
+        --------
+        >>> scene = Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0])
+        >>> scene.modes()[0].natural_frequency
+        2
+        """
+        from laplace_springs.modes import modes
+
+        return modes(self)
+
     # -- builders -----------------------------------------------------------
     @classmethod
     def from_matrices(

@@ -15,6 +15,8 @@ A scene file describes a scene in one of three forms. Components::
     [initial]
     x0 = ["1", "0"]                # or a table {m1 = "1"}
     v0 = ["0", "1"]
+    [forcing]                      # optional: mass name = force in t (or an array)
+    m1 = "10*cos(20*t)"
 
 matrices (``[matrices]`` with ``M`` and optionally ``C``, ``K``), or the seed's
 normalised form (``[normalized]`` with ``A`` and optionally ``B``); both take
@@ -39,7 +41,7 @@ from laplace_springs.scene import Scene
 
 __all__ = ["bundled_scenes", "load_scene", "scene_from_toml_text"]
 
-_COMMON_KEYS = ("title", "layout", "description", "initial")
+_COMMON_KEYS = ("title", "layout", "description", "initial", "forcing")
 _FORMS = {
     "masses": ("masses", "springs", "dashpots"),
     "matrices": ("matrices", "names"),
@@ -85,6 +87,17 @@ def _form_of(data: Mapping[str, Any]) -> str:
 
 
 def _scene_from_data(data: Mapping[str, Any]) -> Scene:
+    scene = _unforced_scene(data)
+    forcing = data.get("forcing")
+    if forcing is None:
+        return scene
+    if not isinstance(forcing, (list, dict)):
+        raise SceneError(f"'forcing' must be an array (one entry per coordinate) or a table "
+                         f"(mass name = expression), got {forcing!r}")
+    return scene.with_forcing(forcing)
+
+
+def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     form = _form_of(data)
     initial = _table(data, "initial")
     _check_keys(initial, _INITIAL_KEYS, "in [initial]")

@@ -138,6 +138,13 @@ class Solution:
                                    for i in range(self.scene.n)])
 
     @cached_property
+    def modes(self):
+        """The scene's modes (see :func:`laplace_springs.modes.modes`)."""
+        from .modes import modes
+
+        return modes(self.scene)
+
+    @cached_property
     def _numeric(self) -> tuple[NumericTerms, ...]:
         return tuple(numeric_terms(piece.terms, dps=40) for piece in self.pieces)
 
