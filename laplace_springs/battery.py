@@ -15,8 +15,8 @@ Kinds: ``critical``, ``near-critical``, ``separated-real``, ``defective``,
 ``near-defective``, ``rigid-body``, ``stiffness-ratio``, ``mass-ratio``,
 ``heavy-damping``, ``light-damping``, ``symmetric``, ``close-frequencies``,
 ``near-resonance`` (forcing near a natural frequency, the forcing written as an extra
-oscillator state so that the scene stays unforced), ``chain`` and (to be added with
-massless nodes, in :func:`_massless`) ``massless``.
+oscillator state so that the scene stays unforced), ``chain`` and ``massless`` (zero
+masses held by dashpots: Maxwell and Kelvin-Voigt elements, in :func:`_massless`).
 
 Examples
 --------
@@ -345,8 +345,34 @@ def _chains(large: bool) -> list[BatteryCase]:
 
 
 def _massless() -> list[BatteryCase]:
-    """Massless-node cases (Maxwell elements) go here once they are solved."""
-    return []
+    """Massless nodes held by dashpots (Maxwell elements): deg Δ < 2n, x' jumps at 0⁺."""
+    zener_fast = Scene.from_components(
+        masses={"m": "1", "n": "0"},
+        springs={"k1": ("wall", "m", "1"), "k2": ("wall", "n", "10000")},
+        dashpots={"c": ("n", "m", "1")}, x0=["1", "0"], v0=["0", "0"])
+    zener_slow = Scene.from_components(
+        masses={"m": "1", "n": "0"},
+        springs={"k1": ("wall", "m", "1"), "k2": ("wall", "n", "3")},
+        dashpots={"c": ("n", "m", "1000000")}, x0=["0", "0"], v0=["1", "5"])
+    kelvin = Scene.from_components(
+        masses={"a": "0", "b": "0", "m": "1/1000"},
+        springs={"k1": ("wall", "a", "1"), "k2": ("a", "b", "1"), "k3": ("b", "m", "1")},
+        dashpots={"c1": ("wall", "a", "10000"), "c2": ("a", "b", "1/10000")},
+        x0=["1", "-1", "0"], v0=["0", "0", "0"])
+    return [
+        BatteryCase("maxwell-fast-relaxation", "massless",
+                    "a unit mass on a standard linear solid (wall spring 1, Maxwell arm "
+                    "k = 1e4, c = 1): relaxation time 1e-4 beside a unit oscillation",
+                    zener_fast, _times(20, 32, logs=range(-20, 0, 2))),
+        BatteryCase("maxwell-stiff-dashpot", "massless",
+                    "standard linear solid with c = 1e6: almost elastic, the Maxwell arm "
+                    "relaxes over ~3e5 time units; the node's v0 is ignored (it jumps)",
+                    zener_slow, _times(1e4, 64, logs=range(-10, 20, 3))),
+        BatteryCase("kelvin-chain-separated", "massless",
+                    "two massless Kelvin-Voigt stages (c = 1e4 and 1e-4) and a light mass "
+                    "1e-3: retardation times 1e4 and 1e-4 beside a fast oscillation",
+                    kelvin, _times(1e4, 32, logs=range(-16, 14, 2))),
+    ]
 
 
 _GROUPS: tuple[Callable[[], list[BatteryCase]], ...] = (
