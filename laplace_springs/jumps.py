@@ -125,8 +125,13 @@ def _impulse_matrix(quotients: Sequence[sp.Poly], n: int) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(n, width, [e for row in rows for e in row])
 
 
-def initial_jump(resolvent: Resolvent) -> InitialJump:
+def initial_jump(resolvent: Resolvent, numerators: Sequence[sp.Poly] | None = None,
+                 denominator: sp.Poly | None = None) -> InitialJump:
     """x(0⁺), x'(0⁺), the jumps and any impulses, from X(λ) = N_i(λ)/Δ(λ) at λ = ∞.
+
+    ``numerators`` and ``denominator`` replace the resolvent's free-response X(λ) when
+    inputs act from t = 0 (the transform of everything switched on at t = 0: a step
+    force moves a spring-only massless node at once, an impulse can put δ into x).
 
     Examples
     --------
@@ -142,7 +147,9 @@ def initial_jump(resolvent: Resolvent) -> InitialJump:
     (Matrix([[2, 5]]), Matrix([[1, 0]]), False)
     """
     scene = resolvent.scene
-    expansions = [laurent_at_infinity(N, resolvent.determinant, 2) for N in resolvent.numerators]
+    numerators = resolvent.numerators if numerators is None else numerators
+    denominator = resolvent.determinant if denominator is None else denominator
+    expansions = [laurent_at_infinity(N, denominator, 2) for N in numerators]
     x_plus = sp.ImmutableMatrix([a[0] for _, a in expansions])
     v_plus = sp.ImmutableMatrix([a[1] for _, a in expansions])
     return InitialJump(
@@ -154,8 +161,8 @@ def initial_jump(resolvent: Resolvent) -> InitialJump:
     )
 
 
-def jump_residuals(scene: Scene, position, velocity, impulses=None) -> list[sp.Expr]:
-    """Coefficients of (λ²M + λC + K)P(λ) + λ M Δx + M Δv + C Δx; all zero for the true jump.
+def jump_residuals(scene: Scene, position, velocity, impulses=None, load=None) -> list[sp.Expr]:
+    """Coefficients of (λ²M + λC + K)P(λ) + λ M Δx + M Δv + C Δx − J(λ); zero for the true jump.
 
     Parameters
     ----------
@@ -164,6 +171,9 @@ def jump_residuals(scene: Scene, position, velocity, impulses=None) -> list[sp.E
         Δx = x(0⁺) − x0 and Δv = x'(0⁺) − v0 of a candidate solution.
     impulses : matrix, optional
         n x p coefficients of δ^(k) in x (none by default).
+    load : matrix, optional
+        n x q coefficients J_k of δ^(k)(t) in the forcing (impulsive inputs at t = 0;
+        J(λ) = Σ J_k λ^k is the polynomial part of the input's transform).
 
     Returns
     -------
@@ -188,10 +198,13 @@ def jump_residuals(scene: Scene, position, velocity, impulses=None) -> list[sp.E
     dx, dv = sp.Matrix(list(position)), sp.Matrix(list(velocity))
     at_zero = s.M * dv + s.C * dx
     at_one = s.M * dx
-    out = list(at_zero) + list(at_one)
-    if impulses is not None and sp.Matrix(impulses).cols:
-        lam = sp.Dummy("lambda")
-        P = sp.Matrix(impulses) * sp.Matrix([lam**k for k in range(sp.Matrix(impulses).cols)])
-        total = (lam**2 * s.M + lam * s.C + s.K) * P + lam * at_one + at_zero
-        out = [c for e in total for c in sp.Poly(sp.expand(e), lam).all_coeffs()]
-    return out
+    impulses = sp.zeros(s.n, 0) if impulses is None else sp.Matrix(impulses)
+    load = sp.zeros(s.n, 0) if load is None else sp.Matrix(load)
+    if not impulses.cols and not load.cols:
+        return list(at_zero) + list(at_one)
+    lam = sp.Dummy("lambda")
+    P = sum((impulses[:, k] * lam**k for k in range(impulses.cols)), sp.zeros(s.n, 1))
+    J = sum((load[:, k] * lam**k for k in range(load.cols)), sp.zeros(s.n, 1))
+    total = (lam**2 * s.M + lam * s.C + s.K) * P + lam * at_one + at_zero - J
+    width = max(impulses.cols + 2, load.cols, 2)
+    return [sp.Poly(sp.expand(e), lam).nth(k) for e in total for k in range(width)]
