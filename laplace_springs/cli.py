@@ -27,6 +27,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, TextIO
 
 import mpmath
+import numpy as np
 import sympy as sp
 
 import laplace_springs as ls
@@ -73,12 +74,17 @@ def _build_parser() -> argparse.ArgumentParser:
                        help="with --latex: a complete .tex document (pdflatex, amsmath)")
     solve.add_argument("-o", "--output", metavar="FILE",
                        help="with --latex: write to FILE instead of standard output")
+    solve.add_argument("--forcing", action="append", metavar="F",
+                       help="external force: one per coordinate in order (repeat the option), "
+                            "or NAME=EXPR for one coordinate, e.g. --forcing 'x1=10*cos(20*t)'; "
+                            "replaces the scene file's forcing")
     solve.set_defaults(run=_run_solve)
 
     scenes = commands.add_parser("scenes", help="list the bundled scenes",
                                  description="List the bundled scenes: name and title.")
     scenes.set_defaults(run=_run_scenes)
     _add_bench_command(commands)
+    _add_response_command(commands)
     return parser
 
 
@@ -175,10 +181,11 @@ def _format_time(time: float) -> str:
     return short if float(short) == time else repr(time)
 
 
-def _table_lines(names: Sequence[str], times: Sequence[float], values, digits: int) -> list[str]:
-    """A right-aligned table: t then one column per coordinate."""
+def _table_lines(names: Sequence[str], times: Sequence[float], values, digits: int,
+                 variable: str = "t") -> list[str]:
+    """A right-aligned table: t (or ``variable``) then one column per coordinate."""
     width = digits + 8
-    rows = ["  ".join(cell.rjust(width) for cell in ["t", *names])]
+    rows = ["  ".join(cell.rjust(width) for cell in [variable, *names])]
     for col, time in enumerate(times):
         cells = [_format_time(time)] + [_format_value(values[i, col], digits)
                                           for i in range(len(names))]
@@ -191,6 +198,8 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     _check_latex_options(args)
     times = parse_times(args.at) if args.at is not None else None
     scene = ls.load_scene(args.scene)
+    if args.forcing:
+        scene = scene.with_forcing(_forcing_argument(scene, args.forcing))
     solution = ls.solve(scene)
     if args.plot:
         _save_plot(solution, args.plot)
@@ -204,6 +213,73 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     else:
         lines += _formula_lines(scene, solution, pretty=args.pretty)
     print("\n".join(lines), file=out)
+
+
+def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[str] | dict[str, str]:
+    """``--forcing`` values: all positional (one per coordinate) or all NAME=EXPR."""
+    named = ["=" in item for item in items]
+    if any(named) and not all(named):
+        raise ValueError("--forcing: give either one expression per coordinate or NAME=EXPR items, not both")
+    if not all(named):
+        if len(items) != scene.n:
+            raise ValueError(f"--forcing was given {len(items)} times; the scene has {scene.n} "
+                             f"coordinates ({', '.join(scene.names)}); use NAME=EXPR for fewer")
+        return list(items)
+    pairs = dict(item.split("=", 1) for item in items)
+    return {name.strip(): text for name, text in pairs.items()}
+
+
+def _add_response_command(commands) -> None:
+    """``laplace-springs response``: modes and the frequency response of a scene."""
+    response = commands.add_parser(
+        "response", help="natural frequencies, damping ratios and the frequency response",
+        description="Print the modes of a scene (natural and damped frequencies, damping "
+                    "ratios, shapes) and, with --plot, draw |H(iω)| and its phase.")
+    response.add_argument("scene", metavar="SCENE", help="a bundled scene name or a .toml path")
+    response.add_argument("--plot", metavar="FILE", help="save the frequency-response plot to FILE")
+    response.add_argument("--force", type=int, default=1, metavar="J",
+                          help="the coordinate (1-based) the unit harmonic force acts on (default 1)")
+    response.add_argument("--at", metavar="W1,W2,...",
+                          help="print the amplitude of each coordinate per unit force at these frequencies")
+    response.set_defaults(run=_run_response)
+
+
+def _run_response(args: argparse.Namespace, out: TextIO) -> None:
+    scene = ls.load_scene(args.scene)
+    if not 1 <= args.force <= scene.n:
+        raise ValueError(f"--force must be between 1 and {scene.n}, got {args.force}")
+    lines = [scene.title] if scene.title else []
+    lines.append(f"{'mode':>4}  {'omega_n':>12}  {'zeta':>10}  {'omega_d':>12}  shape")
+    for k, mode in enumerate(ls.modes(scene), start=1):
+        zeta = "-" if mode.damping_ratio is None else f"{float(mode.damping_ratio):.6g}"
+        shape = ", ".join(_format_complex(v) for v in mode.shape)
+        lines.append(f"{k:>4}  {float(mode.natural_frequency):>12.6g}  {zeta:>10}  "
+                     f"{float(mode.damped_frequency):>12.6g}  [{shape}]  ({mode.kind})")
+    if args.at is not None:
+        omegas = parse_times(args.at)
+        H = ls.frequency_response(scene, omegas)[:, :, args.force - 1]
+        lines.append(f"amplitude per unit force on {scene.names[args.force - 1]}:")
+        lines += _table_lines(scene.names, omegas, np.abs(H).T, TABLE_DIGITS, variable="omega")
+    if args.plot:
+        _save_response_plot(scene, args.force - 1, args.plot)
+        lines.append(f"wrote {args.plot}")
+    print("\n".join(lines), file=out)
+
+
+def _format_complex(value: complex) -> str:
+    if abs(value.imag) < 1e-12:
+        return f"{value.real:.6g}"
+    return f"{value.real:.6g}{value.imag:+.6g}i"
+
+
+def _save_response_plot(scene: Scene, force: int, path: str) -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+    except ImportError as exc:
+        raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
+    ls.plot_frequency_response(scene, force=force).savefig(path, dpi=100)
 
 
 def _check_latex_options(args: argparse.Namespace) -> None:

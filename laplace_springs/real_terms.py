@@ -119,8 +119,10 @@ def _upper_roots(q: sp.Poly) -> tuple[list[sp.CRootOf], list[sp.CRootOf]]:
     real = [AlgebraicRoot(expr, i) for i in range(real_count)]
     upper = []
     for i in range(real_count, q.degree()):
-        root = AlgebraicRoot(expr, i)
-        if root._get_interval().ay > 0:
+        root = AlgebraicRoot(expr, i)  # may come back rescaled, e.g. 2*CRootOf(...)
+        inner = root if isinstance(root, sp.CRootOf) else next(iter(root.atoms(sp.CRootOf)))
+        sign = 1 if inner is root else sp.sign(root / inner)
+        if sign * inner._get_interval().ay > 0:
             upper.append(root)
     return real, upper
 

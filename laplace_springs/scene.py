@@ -549,8 +549,7 @@ class Scene:
         """A new scene with other external forces (``None`` removes them).
 
         ``forcing`` is a sequence with one entry per coordinate, or a mapping from mass
-        names (coordinate names for a scene built from matrices) to entries, missing
-        ones 0. Entries are text in ``t``, numbers or SymPy expressions
+        names or coordinate names to entries, missing ones 0. Entries are text in ``t``, numbers or SymPy expressions
         (see :func:`laplace_springs.forcing.parse_forcing`).
 
         Examples
@@ -560,6 +559,8 @@ class Scene:
         Matrix([[cos(3*t)]])
         """
         keys = self.mass_names or self.names
+        if isinstance(forcing, Mapping) and set(forcing) <= set(self.names):
+            keys = self.names  # coordinate names x1..xn work for every scene
         values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
         return dataclasses.replace(self, forcing=forcing_vector(values, self.n))
 
