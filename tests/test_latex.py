@@ -318,3 +318,23 @@ def test_two_factors_print_two_distinct_frequencies():
     for i, (_, rhs) in enumerate(eqs[:2]):
         for time, ref in zip(TIMES, reference[i]):
             assert abs(numeric(parse(rhs), numbers, time).real - float(ref)) < 1e-15
+
+
+def test_forced_piece_switched_on_at_tau_round_trips():
+    forcing = pytest.importorskip("laplace_springs.forcing")
+    try:
+        scene = ls.Scene.from_matrices(M=[[1]], C=[["0.5"]], K=[[4]], x0=[1], v0=[0],
+                                       forcing=[forcing.step(1, at=2) + forcing.sine(1, 3)])
+    except TypeError:
+        pytest.skip("scenes without forcing")
+    sol = ls.solve(scene)
+    text = sol.latex()
+    assert "Heaviside" not in text and r"\theta\left(t - 2\right)" in text
+    for row in rows(blocks(text)[0]):
+        mathtext_ok(row)
+    (lhs, rhs), = [(l, r) for l, r in equations(blocks(text)[0]) if l.endswith("(t)")]
+    expr = parse(rhs).replace(lambda f: isinstance(f, sp.Function) and str(f.func) == "theta",
+                              lambda f: sp.Heaviside(f.args[0], 1))
+    for time in ("0.5", "2", "3.7"):  # the printed form is the solution's x(t) (checked elsewhere)
+        expected = complex(sp.N(sol.x[0].subs(ls.t, sp.Rational(time)), 20))
+        assert abs(numeric(expr, {}, time) - expected) < 1e-15
