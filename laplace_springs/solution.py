@@ -185,7 +185,8 @@ class Solution:
             on = times >= tau if tau else np.ones(times.size, dtype=bool)
             if not on.any():
                 continue
-            part, bound = evaluate_float(data, n, times[on] - tau, return_error=True)
+            part, bound = evaluate_float(data, n, times[on], return_error=True,
+                                         delay=piece.delay if tau else None)
             values[:, on] += part
             error[:, on] += bound
         return (values, error) if return_error else values
