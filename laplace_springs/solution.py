@@ -21,7 +21,7 @@ from .forcing import input_transform
 from .jumps import InitialJump, initial_jump, jump_residuals
 from .numbers import TIME
 from .partial_fractions import decompose
-from .real_terms import Term, group_terms, terms_expr
+from .real_terms import Term, group_terms, naming_scope, solution_terms, terms_expr
 from .resolvent import Resolvent, lam, resolvent
 
 if TYPE_CHECKING:
@@ -36,8 +36,8 @@ _METHODS = ("auto", "exact")
 
 
 def _terms_of(decompositions) -> tuple[tuple[Term, ...], ...]:
-    return tuple(tuple(term for group in pf.groups for term in group_terms(group))
-                 for pf in decompositions)
+    """Real terms per coordinate, named quantities numbered once for the whole solution."""
+    return solution_terms(decompositions)
 
 
 @dataclass(frozen=True)
@@ -472,29 +472,26 @@ def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
     """
     inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
     delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
-    pieces = []
-    for tau in delays:
-        rational = [dict(T.parts).get(tau, sp.S.Zero) for T in inputs]
-        fractions = [sp.fraction(sp.cancel(r)) for r in rational]
-        D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
-        load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
-        numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)),
-                          _poly(0)) for i in range(scene.n)]
-        if tau == 0:
-            numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
-        decompositions = decompose(numerators, R.determinant * D)
-        rows, flags = [], []
-        for pf in decompositions:
-            row, flag = [], []
-            for group in pf.groups:
-                steady = _divides(group.factor, D)
-                for term in group_terms(group):
-                    row.append(term)
-                    flag.append(steady)
-            rows.append(tuple(row))
-            flags.append(tuple(flag))
-        pieces.append(Piece(tau, tuple(rows), tuple(flags)))
-    return tuple(pieces)
+    with naming_scope():
+        return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
+
+
+def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
+    """The piece of the response switched on at ``tau``."""
+    fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
+    D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
+    load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
+    numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
+                  for i in range(scene.n)]
+    if tau == 0:
+        numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
+    rows, flags = [], []
+    for pf in decompose(numerators, R.determinant * D):
+        pairs = [(term, _divides(group.factor, D))
+                 for group in pf.groups for term in group_terms(group)]
+        rows.append(tuple(term for term, _ in pairs))
+        flags.append(tuple(steady for _, steady in pairs))
+    return Piece(tau, tuple(rows), tuple(flags))
 
 
 def _poly(expr) -> sp.Poly:
