@@ -57,20 +57,32 @@ class Piece:
     steady : tuple of tuple of bool
         Per term: whether its pole is a pole of the input (steady-state part) rather
         than of the system alone (transient part).
+    impulses : tuple of tuple of sympy.Expr
+        Per coordinate, coefficients c_j of DiracDelta(t − τ, j) in x: only an impulsive
+        input on a massless node puts them there. Empty when there are none.
+    numerators, denominator : sympy.Poly
+        The piece's transform X_τ(λ) = numerators/denominator (forced scenes).
     """
 
     delay: sp.Expr
     terms: tuple[tuple[Term, ...], ...]
     steady: tuple[tuple[bool, ...], ...]
+    impulses: tuple[tuple[sp.Expr, ...], ...] = ()
+    numerators: tuple[sp.Poly, ...] = ()
+    denominator: sp.Poly | None = None
 
     def expr(self, row: int, part: str = "all") -> sp.Expr:
         """Coordinate ``row`` of this piece in :data:`t` (Heaviside-switched if τ > 0)."""
         chosen = [term for term, steady in zip(self.terms[row], self.steady[row])
                   if part == "all" or steady == (part == "steady")]
+        shifted = t - self.delay
+        deltas = sp.Add(*(c * (sp.DiracDelta(shifted) if j == 0 else sp.DiracDelta(shifted, j))
+                          for j, c in enumerate(self.impulses[row] if self.impulses else ())
+                          if c != 0)) if part != "steady" else sp.S.Zero
         if self.delay == 0:
-            return terms_expr(chosen, t)
-        body = terms_expr(chosen, t - self.delay)
-        return sp.Heaviside(t - self.delay) * body if body != 0 else sp.S.Zero
+            return terms_expr(chosen, t) + deltas
+        body = terms_expr(chosen, shifted)
+        return (sp.Heaviside(shifted) * body if body != 0 else sp.S.Zero) + deltas
 
 
 @dataclass(frozen=True)
@@ -314,10 +326,13 @@ class Solution:
         x = sp.Matrix(self.x)
         v = x.diff(t)
         force = sp.Matrix(s.forcing) if s.is_forced else sp.zeros(s.n, 1)
+        force = force.replace(sp.Heaviside, lambda arg, *_: sp.Heaviside(arg, 1))  # t = 0⁺
         residual = (s.M * v.diff(t) + s.C * v + s.K * x - force).xreplace(generic)
         residual = residual.replace(sp.DiracDelta, lambda *args: sp.S.Zero)  # 0 off the delays
-        start = jump_residuals(s, x.subs(t, 0) - s.x0, v.subs(t, 0) - s.v0 - self._kick(),
-                               self.initial_jump.impulses)
+        jump = self.initial_jump
+        x, v = x.replace(sp.DiracDelta, lambda *a: sp.S.Zero), v.replace(sp.DiracDelta, lambda *a: sp.S.Zero)
+        start = jump_residuals(s, x.subs(t, 0) - s.x0, v.subs(t, 0) - s.v0,
+                               jump.impulses, load=self._impulsive_load())
         start = [sp.sympify(e).xreplace(generic) for e in start]
         times = _sample_times(samples, [piece.delay for piece in self.pieces])
         sizes = [*s.x0, *s.v0, *(f.subs(t, tv) for f in force.xreplace(generic) for tv in times)]
@@ -325,14 +340,13 @@ class Solution:
         ode = _size([e.subs(t, tv) for e in residual for tv in times], {}, dps)
         return Verification(ode / scale, _size(start, generic, dps) / scale, 10.0 ** (10 - dps))
 
-    def _kick(self) -> sp.Matrix:
-        """The velocity change M⁻¹J of impulses J·δ(t) in the forcing (zero without)."""
+    def _impulsive_load(self) -> sp.Matrix | None:
+        """J with J·δ(t) the impulses the forcing applies at t = 0 (None without)."""
         s = self.scene
         if not s.is_forced or not s.forcing.has(sp.DiracDelta):
-            return sp.zeros(s.n, 1)
+            return None
         inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(s.forcing)]
-        J = sp.Matrix([sp.limit(dict(T.parts).get(sp.S.Zero, 0), lam, sp.oo) for T in inputs])
-        return s.M.pinv() * J if J.has(sp.Symbol) or s.M.det() == 0 else s.M.inv() * J
+        return sp.Matrix([sp.limit(dict(T.parts).get(sp.S.Zero, 0), lam, sp.oo) for T in inputs])
 
     @cached_property
     def initial_jump(self) -> InitialJump:
@@ -352,7 +366,10 @@ class Solution:
         >>> jump.x_plus.T, jump.position.T, jump.velocity.T
         (Matrix([[4/5, 2]]), Matrix([[-1/5, 0]]), Matrix([[2/5, 0]]))
         """
-        return initial_jump(self.resolvent)
+        first = self.pieces[0]
+        if first.denominator is None:
+            return initial_jump(self.resolvent)
+        return initial_jump(self.resolvent, list(first.numerators), first.denominator)
 
     # -- plots (see laplace_springs.plotting; need matplotlib) ---------------
     def plot(self, ax=None, **kw):
@@ -485,13 +502,18 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
                   for i in range(scene.n)]
     if tau == 0:
         numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
-    rows, flags = [], []
-    for pf in decompose(numerators, R.determinant * D):
+    denominator = R.determinant * D
+    rows, flags, impulses = [], [], []
+    for pf in decompose(numerators, denominator):
         pairs = [(term, _divides(group.factor, D))
                  for group in pf.groups for term in group_terms(group)]
         rows.append(tuple(term for term, _ in pairs))
         flags.append(tuple(steady for _, steady in pairs))
-    return Piece(tau, tuple(rows), tuple(flags))
+        to_sympy = pf.polynomial.domain.to_sympy
+        impulses.append(tuple(to_sympy(c) for c in reversed(pf.polynomial.all_coeffs()))
+                        if not pf.polynomial.is_zero else ())
+    return Piece(tau, tuple(rows), tuple(flags), tuple(impulses) if any(impulses) else (),
+                 tuple(numerators), denominator)
 
 
 def _poly(expr) -> sp.Poly:
