@@ -31,13 +31,13 @@ True
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from decimal import Decimal
-from typing import Callable, Iterable
 
 from .scene import Scene
 
-__all__ = ["BatteryCase", "battery_cases", "KINDS"]
+__all__ = ["KINDS", "BatteryCase", "battery_cases"]
 
 #: The kinds of case, in the order of issue 3 item 1.
 KINDS = ("critical", "near-critical", "separated-real", "defective", "near-defective",

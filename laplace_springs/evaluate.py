@@ -29,8 +29,8 @@ not a certificate.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import mpmath
 import numpy as np
@@ -40,7 +40,7 @@ from .mp_expr import mp_value
 from .pole_sum import Block, PoleSum, evaluate_blocks, plan_blocks, two_diff
 from .real_terms import Term
 
-__all__ = ["NumericTerms", "numeric_terms", "evaluate_float", "evaluate_mp"]
+__all__ = ["NumericTerms", "evaluate_float", "evaluate_mp", "numeric_terms"]
 
 #: Float64 columns whose estimated error exceeds this, relative to max |x|, are redone in mpmath.
 FALLBACK_TOLERANCE = 1e-13
@@ -215,7 +215,7 @@ def _digits(ratio) -> int:
     """Decimal digits lost to a cancellation ratio Σ|terms| / max |x|."""
     if not ratio or not mpmath.isfinite(ratio):
         return 0 if not ratio else 30
-    return max(0, int(math.ceil(float(mpmath.log10(ratio)))))
+    return max(0, math.ceil(float(mpmath.log10(ratio))))
 
 
 def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,

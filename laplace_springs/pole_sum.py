@@ -42,13 +42,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import mpmath
 import numpy as np
 
-__all__ = ["PoleSum", "Block", "plan_blocks", "evaluate_blocks", "two_diff", "THETA"]
+__all__ = ["THETA", "Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
 
 #: A block is used while t·(its link heights) ≤ THETA.
 THETA = 1.0
@@ -156,14 +156,14 @@ def _dd(value) -> tuple[float, float]:
     return hi, float(value - hi) if math.isfinite(hi) else 0.0
 
 
-def _make_block(form: PoleSum, block: Sequence[int], t_low: float, t_high: float) -> Block:
+def _make_block(form: PoleSum, block: Sequence[int], t_high: float) -> Block:
     order, d, centre = _newton(form, block)
     with mpmath.workdps(form.dps):
         upper = all(mpmath.im(form.nodes[j]) > 0 for j in block)
         delta = np.array([complex(form.nodes[j] - centre) for j in order])
         mu = (*_dd(mpmath.re(centre)), *_dd(mpmath.im(centre)))
         dc = np.array([[complex(v) for v in dm] for dm in d], dtype=complex)
-    return Block(tuple(block), t_low, t_high, 2.0 if upper else 1.0, mu, delta, dc,
+    return Block(tuple(block), -1.0, t_high, 2.0 if upper else 1.0, mu, delta, dc,
                  np.abs(dc).sum(axis=1), 10.0 ** (3 - form.dps))
 
 
@@ -212,7 +212,7 @@ def plan_blocks(form: PoleSum) -> list[Block]:
 
     def block_of(nodes: tuple[int, ...], t_high: float) -> Block:
         if nodes not in built:
-            built[nodes] = _make_block(form, nodes, -1.0, t_high)
+            built[nodes] = _make_block(form, nodes, t_high)
         return built[nodes]
 
     def join(a: int, b: int, h: float, decision: bool | None) -> bool:

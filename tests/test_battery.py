@@ -9,7 +9,7 @@ cached per module, in memory.
 from __future__ import annotations
 
 from decimal import Decimal
-from functools import lru_cache
+from functools import cache
 
 import mpmath
 import numpy as np
@@ -22,12 +22,12 @@ from laplace_springs.reference import reference_motion_arb, relative_error
 CASES = {case.name: case for case in battery_cases()}
 
 
-@lru_cache(maxsize=None)
+@cache
 def _solution(name: str) -> ls.Solution:
     return ls.solve(CASES[name].scene)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _reference(name: str, digits: int) -> np.ndarray:
     case = CASES[name]
     return reference_motion_arb(case.scene, case.times, digits=digits)
