@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from .algebraic import numeric_value
+from .errors import SceneError
 from .evaluate import NumericTerms, _mp_time, evaluate_float, evaluate_mp, numeric_terms
 from .forcing import input_transform
 from .jumps import InitialJump, initial_jump, jump_residuals
@@ -32,7 +33,12 @@ __all__ = ["t", "Piece", "Solution", "Verification", "solve"]
 #: Time, the variable of every solution (the results hold for t ≥ 0).
 t = TIME
 
-_METHODS = ("auto", "exact")
+_METHODS = ("auto", "exact", "numeric")
+
+#: Largest number of coordinates "auto" solves exactly when the numeric route could
+#: serve (an unforced, numeric scene): above it Δ has degree > 16 and the exact route
+#: takes seconds (8 masses: 2-8 s) while the numeric route takes milliseconds.
+EXACT_LIMIT = 8
 
 
 def _terms_of(decompositions) -> tuple[tuple[Term, ...], ...]:
@@ -148,6 +154,14 @@ class Solution:
     def _part(self, part: str) -> sp.ImmutableMatrix:
         return sp.ImmutableMatrix([sp.Add(*(piece.expr(i, part) for piece in self.pieces))
                                    for i in range(self.scene.n)])
+
+    #: Which route produced the solution (a :class:`NumericSolution` says "numeric").
+    method = "exact"
+
+    @property
+    def reason(self) -> str:
+        """Why this route: the exact one is the default wherever it is affordable."""
+        return "exact partial fractions (the default where affordable)"
 
     @cached_property
     def modes(self):
@@ -444,21 +458,27 @@ def _latex_name(name: str) -> str:
     return f"{head}_{{{tail}}}" if tail and head else name
 
 
-def solve(scene: Scene, *, method: str = "auto") -> Solution:
-    """Solve M x'' + C x' + K x = 0 with the scene's initial data, exactly.
+def solve(scene: Scene, *, method: str = "auto"):
+    """Solve M x'' + C x' + K x = f(t) with the scene's initial data.
 
     Parameters
     ----------
     scene : Scene
         The mechanical system.
-    method : {"auto", "exact"}
-        "exact" inverts the Laplace transform by exact partial fractions; "auto"
-        currently means "exact".
+    method : {"auto", "exact", "numeric"}
+        "exact" inverts the Laplace transform by exact partial fractions. "numeric"
+        uses the conditioned eigen-decomposition of the linearised quadratic eigenvalue
+        problem (:mod:`laplace_springs.numeric_route`; unforced numeric scenes with
+        invertible M). "auto" is exact unless the scene is numeric, unforced, has more
+        than :data:`EXACT_LIMIT` coordinates and invertible M; the result's
+        ``method`` and ``reason`` say which route was taken.
 
     Returns
     -------
-    Solution
-        Closed form :attr:`Solution.x`, evaluation, LaTeX, g-basis and verification.
+    Solution or NumericSolution
+        Closed form :attr:`Solution.x`, evaluation, LaTeX, g-basis and verification;
+        the numeric route's result has ``x`` (Float coefficients), ``evaluate`` and
+        ``verify``.
 
     Examples
     --------
@@ -473,11 +493,26 @@ def solve(scene: Scene, *, method: str = "auto") -> Solution:
     """
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+    if method == "numeric" or (method == "auto" and _numeric_is_better(scene)):
+        from .numeric_route import solve_numeric
+
+        if scene.is_forced:
+            raise SceneError("the numeric route does not take forcing yet; use method='exact'")
+        reason = ("method='numeric' was requested" if method == "numeric" else
+                  f"auto: {scene.n} coordinates > EXACT_LIMIT = {EXACT_LIMIT} "
+                  f"(Δ of degree {2 * scene.n}); the exact route would take seconds")
+        return solve_numeric(scene, reason=reason)
     R = resolvent(scene)
     if not scene.is_forced:
         return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
     pieces = _forced_pieces(scene, R)
     return Solution(scene, R, pieces[0].terms, pieces)
+
+
+def _numeric_is_better(scene: Scene) -> bool:
+    """Whether "auto" takes the numeric route (see :func:`solve`)."""
+    return (scene.n > EXACT_LIMIT and not scene.is_forced and not scene.free_symbols
+            and scene.M.det() != 0)
 
 
 def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:

@@ -104,3 +104,22 @@ def test_high_precision_evaluation_accepts_any_kind_of_time(times):
     with mpmath.workdps(40):  # critically damped mass: (1 + t) e^{-t}
         expected = [(1 + tv) * mpmath.exp(-tv) for tv in range(3)]
         assert all(abs(v - e) < 1e-24 for v, e in zip(values[0], expected))
+
+
+def test_auto_takes_the_numeric_route_for_large_numeric_scenes():
+    n = 12
+    K = [[2 if i == j else -1 if abs(i - j) == 1 else 0 for j in range(n)] for i in range(n)]
+    M = [[1 if i == j else 0 for j in range(n)] for i in range(n)]
+    scene = ls.Scene.from_matrices(M=M, C=[["0.1" if i == j else 0 for j in range(n)]
+                                           for i in range(n)], K=K,
+                                   x0=[1] + [0] * (n - 1), v0=[0] * n)
+    sol = ls.solve(scene)
+    assert sol.method == "numeric" and "12 coordinates" in sol.reason
+    times = [0.0, 1.5, 7.0]
+    assert relative_error(sol.evaluate(times), reference_motion(scene, [repr(v) for v in times])) < 1e-12
+    small = ls.solve(ls.load_scene("wall-pair"))
+    assert small.method == "exact"
+    with pytest.raises(ls.SceneError, match="numeric route does not take forcing"):
+        ls.solve(scene.with_forcing({"x1": "cos(t)"}), method="numeric")
+    with pytest.raises(ValueError, match="method must be one of"):
+        ls.solve(scene, method="fast")
