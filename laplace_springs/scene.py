@@ -515,6 +515,9 @@ class Scene:
         >>> A.tolist(), B.tolist()
         ([[2, -1], [-1/2, 1/2]], [[1/5, 0], [0, 1/5]])
         """
+        if self.M.det() == 0:
+            raise SceneError("the normalised form x'' + B x' + A x = 0 needs an invertible M; "
+                             "this scene has massless nodes (M is singular)")
         if self.M.is_diagonal():
             inverse = sympy.diag(*[1 / self.M[i, i] for i in range(self.n)])
         else:
