@@ -226,11 +226,13 @@ def plot_case(records: Sequence[Record], path: Path, title: str) -> None:
         axes.loglog([r.seconds for r in members], [max(r.error, PLOT_FLOOR) for r in members],
                     marker="o", color=_IVP_COLOURS.get(solver, "black"), label=f"solve_ivp {solver}")
     axes.axhspan(PLOT_FLOOR / 2, TIE_FLOOR, color="0.92", zorder=0, label=f"≤ {TIE_FLOOR:g} (tie)")
-    missing = [f"{r.method}: {r.status}" for r in records if r.status != "ok"]
+    missing = [f"{r.method}: {r.status}" for r in records if r.status in ("timeout", "failed")]
+    skipped = sum(r.status == "skipped" for r in records)
+    missing = missing[:10] + (["…"] if len(missing) > 10 else [])
+    missing += [f"{skipped} skipped (see report)"] if skipped else []
     if missing:
-        shown = "\n".join(missing[:8]) + ("\n…" if len(missing) > 8 else "")
-        axes.text(0.99, 0.99, shown, transform=axes.transAxes, ha="right", va="top",
-                  fontsize=7, color="0.3")
+        axes.text(1.02, 0.0, "\n".join(missing), transform=axes.transAxes, ha="left",
+                  va="bottom", fontsize=7, color="0.3")
     axes.set_xlabel("run time (s)")
     axes.set_ylabel(f"error relative to max |x| (drawn ≥ {PLOT_FLOOR:g})")
     axes.set_title(title)
