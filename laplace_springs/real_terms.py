@@ -112,8 +112,21 @@ def _quadratic_terms(group: PoleGroup) -> list[Term]:
     return out
 
 
-def _upper_roots(q: sp.Poly) -> tuple[list[sp.CRootOf], list[sp.CRootOf]]:
-    """Real roots and the upper-half-plane member of each conjugate pair, as CRootOf."""
+def _upper_roots(q: sp.Poly) -> tuple[list[sp.Expr], list[tuple[sp.Expr, sp.Expr]]]:
+    """Real roots, and (α, β) with β > 0 for each conjugate pair α ± iβ, exactly.
+
+    An even factor q(s) = p(s²) whose p has only negative roots μ (an undamped,
+    irreducible biquadratic) gives the pairs ±i√(−μ) with μ a real CRootOf of p, so
+    β = √(−μ) is written as a real number rather than as im(CRootOf(q)).
+    """
+    even = _even_part(q)
+    if even is not None and even.count_roots() == even.degree():
+        if even.degree() <= 2:
+            mus = sorted(sp.roots(even).keys(), key=lambda mu: float(mu))
+        else:
+            mus = [AlgebraicRoot(even.as_expr(), i) for i in range(even.degree())]
+        if all(mu.is_negative for mu in mus):
+            return [], [(sp.S.Zero, sp.sqrtdenest(sp.sqrt(-mu))) for mu in mus]
     expr = q.as_expr()
     real_count = q.count_roots()
     real = [AlgebraicRoot(expr, i) for i in range(real_count)]
@@ -123,8 +136,16 @@ def _upper_roots(q: sp.Poly) -> tuple[list[sp.CRootOf], list[sp.CRootOf]]:
         inner = root if isinstance(root, sp.CRootOf) else next(iter(root.atoms(sp.CRootOf)))
         sign = 1 if inner is root else sp.sign(root / inner)
         if sign * inner._get_interval().ay > 0:
-            upper.append(root)
+            upper.append((sp.re(root), sp.im(root)))
     return real, upper
+
+
+def _even_part(q: sp.Poly) -> sp.Poly | None:
+    """p with q(s) = p(s²), or None when q has an odd power."""
+    coeffs = q.all_coeffs()[::-1]
+    if any(c != 0 for c in coeffs[1::2]):
+        return None
+    return sp.Poly(list(reversed(coeffs[0::2])), q.gen, domain=q.domain)  # in μ = s²
 
 
 def _complex_parts(h: sp.Poly, alpha: sp.Expr, beta: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
@@ -163,8 +184,7 @@ def _algebraic_terms(group: PoleGroup) -> list[Term]:
             term = _term("real", k - 1, root, 0, value, 0, clean=False)
             if term:
                 out.append(term)
-        for root in upper:
-            alpha, beta = sp.re(root), sp.im(root)
+        for alpha, beta in upper:
             x, y = _complex_parts(h * (2 * scale), alpha, beta)
             term = _term("oscillatory", k - 1, alpha, beta, x, -y, clean=False)
             if term:

@@ -315,3 +315,12 @@ def test_irreducible_biquadratic_free_motion():
     times = np.linspace(0, 20, 11)
     assert relative_error(ls.solve(scene).evaluate(times),
                           reference_motion(scene, [repr(float(v)) for v in times])) < 1e-13
+
+
+def test_irreducible_biquadratic_prints_real_frequencies():
+    # Undamped, irreducible over ℚ but even: ω = √(−μ) with μ a root of the quadratic in λ².
+    scene = ls.Scene.from_components(masses={"m1": 5, "m2": 1},
+                                     springs={"k1": ("wall", "m1", 20), "k2": ("m1", "m2", 4)},
+                                     forcing={"m1": "3*cos(2*t)"})
+    x = ls.solve(scene).x
+    assert not x.has(sp.cosh, sp.sinh, sp.CRootOf, sp.I)
