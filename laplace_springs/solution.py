@@ -20,6 +20,7 @@ from .errors import SceneError
 from .evaluate import NumericTerms, _mp_time, evaluate_float, evaluate_mp, numeric_terms
 from .forcing import input_transform
 from .jumps import InitialJump, initial_jump, jump_residuals
+from .mp_expr import mp_value
 from .numbers import TIME
 from .partial_fractions import decompose
 from .real_terms import Term, group_terms, naming_scope, solution_terms, terms_expr
@@ -447,9 +448,22 @@ def _generic_values(symbols) -> dict:
 
 
 def _size(exprs, values: dict, dps: int) -> float:
-    """max |e| over the expressions, at ``dps`` digits (complex values allowed)."""
-    return max((float(abs(numeric_value(sp.sympify(e).xreplace(values), dps))) for e in exprs),
+    """max |e| over the expressions, at ``dps`` digits (complex values allowed).
+
+    Real expressions go through :func:`laplace_springs.mp_expr.mp_value` (guard digits
+    doubled until two evaluations agree, so cancelling coefficients cannot fool it);
+    anything it does not take falls back to :func:`numeric_value`.
+    """
+    caches: dict = {}
+    return max((_magnitude(sp.sympify(e).xreplace(values), dps, caches) for e in exprs),
                default=0.0)
+
+
+def _magnitude(expr: sp.Expr, dps: int, caches: dict) -> float:
+    try:
+        return float(abs(mp_value(expr, dps, caches)))
+    except Exception:  # complex or unsupported pieces: SymPy's evaluation
+        return float(abs(numeric_value(expr, dps)))
 
 
 def _latex_name(name: str) -> str:
