@@ -515,12 +515,20 @@ def solve(scene: Scene, *, method: str = "auto"):
         reason = ("method='numeric' was requested" if method == "numeric" else
                   f"auto: {scene.n} coordinates > EXACT_LIMIT = {EXACT_LIMIT} "
                   f"(Δ of degree {2 * scene.n}); the exact route would take seconds")
-        return solve_numeric(scene, reason=reason)
+        numeric = solve_numeric(scene, reason=reason)
+        if method == "numeric" or _well_conditioned(numeric) or scene.n > 2 * EXACT_LIMIT:
+            return numeric
     R = resolvent(scene)
     if not scene.is_forced:
         return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
     pieces = _forced_pieces(scene, R)
     return Solution(scene, R, pieces[0].terms, pieces)
+
+
+def _well_conditioned(numeric) -> bool:
+    """Whether the numeric route's own error estimate at t = 0 and 1 is below 1e-12."""
+    values, error = numeric.evaluate([0.0, 1.0], return_error=True)
+    return float(error.max()) <= 1e-12 * max(float(np.abs(values).max()), 1e-300)
 
 
 def _numeric_is_better(scene: Scene) -> bool:
