@@ -484,8 +484,9 @@ def solve(scene: Scene, *, method: str = "auto"):
         uses the conditioned eigen-decomposition of the linearised quadratic eigenvalue
         problem (:mod:`laplace_springs.numeric_route`; unforced numeric scenes with
         invertible M). "auto" is exact unless the scene is numeric, unforced, has more
-        than :data:`EXACT_LIMIT` coordinates and invertible M; the result's
-        ``method`` and ``reason`` say which route was taken.
+        than :data:`EXACT_LIMIT` coordinates and invertible M (up to twice that many
+        coordinates, also only if the numeric route's own error estimate is below
+        1e-12); the result's ``method`` and ``reason`` say which route was taken.
 
     Returns
     -------
