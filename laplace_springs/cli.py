@@ -151,7 +151,10 @@ def _root_legend(names: dict[sp.CRootOf, sp.Symbol]) -> list[str]:
         return []
     lines = ["where (algebraic numbers: CRootOf(p, k) is the k-th root of p)"]
     for root, name in names.items():
-        lines.append(f"  {name} = {sp.sstr(root)} ≈ {sp.sstr(sp.N(root, 15))}")
+        # CRootOf holds a generator-free PurePoly, and SymPy's cache may hand back an
+        # instance first built in another variable: always print p in λ.
+        poly = sp.sstr(root.poly.as_expr(ls.lam))
+        lines.append(f"  {name} = CRootOf({poly}, {root.index}) ≈ {sp.sstr(sp.N(root, 15))}")
     return lines
 
 

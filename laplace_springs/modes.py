@@ -19,6 +19,7 @@ import sympy as sp
 from .algebraic import AlgebraicRoot, numeric_value
 from .errors import SceneError
 from .resolvent import lam, resolvent
+from .solution import generic_values
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -110,8 +111,7 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
         out = _undamped_modes(scene, R.determinant)
     else:
         out = _damped_modes(scene, R.determinant)
-    generic = {s: sp.Rational(97 + 13 * i, 89 + 7 * i)
-               for i, s in enumerate(sorted(scene.free_symbols, key=lambda v: v.name))}
+    generic = generic_values(scene.free_symbols)
     return tuple(sorted(out, key=lambda m: float(numeric_value(
         m.natural_frequency.xreplace(generic), 20))))
 
@@ -130,7 +130,7 @@ def _undamped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:
                 out.append(Mode(sp.S.Zero, "rigid", sp.S.Zero, sp.S.Zero, None, 2 * multiplicity,
                                 _shapes(scene, sp.S.Zero)))
                 continue
-            omega = _simplify(sp.sqrt(mu)) if not isinstance(mu, AlgebraicRoot) else sp.sqrt(mu)
+            omega = _simplify(sp.sqrt(mu))
             out.append(Mode(sp.I * omega, "oscillatory", omega, omega, sp.S.Zero, multiplicity,
                             _shapes(scene, sp.I * omega)))
     return out
@@ -161,24 +161,23 @@ def _upper_roots(factor: sp.Poly, scene: Scene) -> list[sp.Expr]:
     roots = _all_roots(factor, scene)
     kept = []
     for root in roots:
-        im = sp.im(root) if not isinstance(root, AlgebraicRoot) else None
-        if isinstance(root, AlgebraicRoot):
-            if root.is_real or numeric_value(sp.im(root), 20) > 0:
+        im = sp.im(root)
+        if im.is_number:  # radicals or algebraic numbers (possibly rescaled, 2*CRootOf(...))
+            if im == 0 or numeric_value(im, 20) > 0:
                 kept.append(root)
-        elif im == 0 or im.is_positive or (im.is_number and im > 0):
-            kept.append(root)
-        elif im.is_positive is None and not sp.expand_complex(im).could_extract_minus_sign():
+        elif im.is_positive or (im.is_positive is None
+                                and not sp.expand_complex(im).could_extract_minus_sign()):
             kept.append(root)  # symbolic: the conjugate pair's member written with +
     return kept
 
 
 def _simplify(expr: sp.Expr) -> sp.Expr:
-    return sp.radsimp(sp.sqrtdenest(sp.simplify(expr))) if not expr.has(AlgebraicRoot) else expr
+    return sp.radsimp(sp.sqrtdenest(sp.simplify(expr))) if not expr.has(sp.CRootOf) else expr
 
 
 def _mode(scene: Scene, root: sp.Expr, multiplicity: int) -> Mode:
-    if isinstance(root, AlgebraicRoot):
-        re, im = (root, sp.S.Zero) if root.is_real else (sp.re(root), sp.im(root))
+    if root.has(sp.CRootOf):  # expand_complex cannot take CRootOf apart
+        re, im = sp.re(root), sp.im(root)
     else:
         re, im = (_simplify(part) for part in sp.expand_complex(root).as_real_imag())
     if root == 0:
@@ -194,8 +193,7 @@ def _mode(scene: Scene, root: sp.Expr, multiplicity: int) -> Mode:
 
 def _shapes(scene: Scene, root: sp.Expr, dps: int = 30) -> tuple[np.ndarray, ...]:
     """Null vectors of the pencil at ``root``, from an SVD of its accurately rounded value."""
-    generic = {s: sp.Rational(97 + 13 * i, 89 + 7 * i)
-               for i, s in enumerate(sorted(scene.free_symbols, key=lambda v: v.name))}
+    generic = generic_values(scene.free_symbols)
     at = root.xreplace(generic)
     pencil = (lam**2 * scene.M + lam * scene.C + scene.K).xreplace(generic)
     P = np.array([[complex(numeric_value(e.subs(lam, at), dps)) for e in row]

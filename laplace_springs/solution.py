@@ -337,7 +337,7 @@ class Solution:
             Truthy when both residuals are below 10^(10 - dps).
         """
         s = self.scene
-        generic = _generic_values(s.free_symbols)
+        generic = generic_values(s.free_symbols)
         x = sp.Matrix(self.x)
         v = x.diff(t)
         force = sp.Matrix(s.forcing) if s.is_forced else sp.zeros(s.n, 1)
@@ -441,7 +441,7 @@ def _sample_times(samples: Sequence, delays: Sequence[sp.Expr]) -> list[sp.Expr]
     return times
 
 
-def _generic_values(symbols) -> dict:
+def generic_values(symbols) -> dict:
     """Fixed, unremarkable positive rationals for symbolic parameters."""
     return {sym: sp.Rational(97 + 13 * i, 89 + 7 * i)
             for i, sym in enumerate(sorted(symbols, key=lambda v: v.name))}

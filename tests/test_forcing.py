@@ -324,3 +324,18 @@ def test_irreducible_biquadratic_prints_real_frequencies():
                                      forcing={"m1": "3*cos(2*t)"})
     x = ls.solve(scene).x
     assert not x.has(sp.cosh, sp.sinh, sp.CRootOf, sp.I)
+
+
+def test_modes_with_rescaled_algebraic_roots():
+    # SymPy returns k*CRootOf(...) for some quartics; the modes must still come out,
+    # matching mpmath's eigenvalues of the first-order matrix.
+    from laplace_springs.reference import first_order_matrix_mp
+
+    scene = ls.Scene.from_components(masses={"m0": "3e-3", "m1": 3},
+                                     springs={"k1": ("wall", "m0", 2), "k2": ("m0", "m1", 50)},
+                                     dashpots={"c": ("m0", "m1", 10)})
+    with mpmath.workdps(30):
+        eigenvalues = mpmath.eig(first_order_matrix_mp(scene), left=False, right=False)
+    expected = sorted({round(float(abs(z)), 9) for z in eigenvalues})
+    got = sorted(round(float(mode.natural_frequency), 9) for mode in ls.modes(scene))
+    assert got == expected
