@@ -31,6 +31,7 @@ import numpy as np  # noqa: E402
 
 from laplace_springs import Scene  # noqa: E402
 from laplace_springs.numeric_route import solve_numeric  # noqa: E402
+from laplace_springs.reference import _exact_rational_matrix, first_order_system  # noqa: E402
 
 
 def damped_chain(n: int) -> Scene:
@@ -46,18 +47,7 @@ def damped_chain(n: int) -> Scene:
 
 def exact_first_order(scene: Scene) -> flint.fmpq_mat:
     """Z = [[0, I], [-M⁻¹K, -M⁻¹C]] over the rationals."""
-    def fmpq_mat(A):
-        return flint.fmpq_mat(A.rows, A.cols, [flint.fmpq(int(e.p), int(e.q)) for e in A])
-
-    n = scene.n
-    Minv = fmpq_mat(scene.M).inv()
-    A, B = Minv * fmpq_mat(scene.K), Minv * fmpq_mat(scene.C)
-    Z = flint.fmpq_mat(2 * n, 2 * n)
-    for i in range(n):
-        Z[i, n + i] = 1
-        for j in range(n):
-            Z[n + i, j], Z[n + i, n + j] = -A[i, j], -B[i, j]
-    return Z
+    return _exact_rational_matrix(first_order_system(scene)[0])
 
 
 def certified_reference(scene: Scene, steps: int, h: flint.fmpq, bits: int = 128):

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from functools import lru_cache
 from math import comb, factorial
 from typing import Any, Sequence
 
@@ -88,10 +89,6 @@ def parse_forcing(value: Any, entry: str) -> sp.Expr:
     return expr
 
 
-def _exact(value: Any, entry: str) -> sp.Expr:
-    return to_exact(value, entry)
-
-
 def cosine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
     """``amplitude * cos(frequency * t + phase)``, exactly.
 
@@ -102,8 +99,8 @@ def cosine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
     >>> cosine("1/2", 3, "pi/4")
     cos(3*t + pi/4)/2
     """
-    return (_exact(amplitude, "amplitude")
-            * sp.cos(_exact(frequency, "frequency") * t + _exact(phase, "phase")))
+    return (to_exact(amplitude, "amplitude")
+            * sp.cos(to_exact(frequency, "frequency") * t + to_exact(phase, "phase")))
 
 
 def sine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
@@ -114,8 +111,8 @@ def sine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
     >>> sine(2, 0.5)
     2*sin(t/2)
     """
-    return (_exact(amplitude, "amplitude")
-            * sp.sin(_exact(frequency, "frequency") * t + _exact(phase, "phase")))
+    return (to_exact(amplitude, "amplitude")
+            * sp.sin(to_exact(frequency, "frequency") * t + to_exact(phase, "phase")))
 
 
 def step(amplitude: Any = 1, at: Any = 0) -> sp.Expr:
@@ -129,7 +126,7 @@ def step(amplitude: Any = 1, at: Any = 0) -> sp.Expr:
     2*Heaviside(t - 3/2)
     """
     at = _nonnegative(at, "at")
-    height = _exact(amplitude, "amplitude")
+    height = to_exact(amplitude, "amplitude")
     return height if at == 0 else height * sp.Heaviside(t - at)
 
 
@@ -141,7 +138,7 @@ def impulse(amplitude: Any = 1, at: Any = 0) -> sp.Expr:
     >>> impulse(2, at=1)
     2*DiracDelta(t - 1)
     """
-    return _exact(amplitude, "amplitude") * sp.DiracDelta(t - _nonnegative(at, "at"))
+    return to_exact(amplitude, "amplitude") * sp.DiracDelta(t - _nonnegative(at, "at"))
 
 
 def ramp(slope: Any = 1, at: Any = 0) -> sp.Expr:
@@ -155,12 +152,12 @@ def ramp(slope: Any = 1, at: Any = 0) -> sp.Expr:
     (t - 2)*Heaviside(t - 2)
     """
     at = _nonnegative(at, "at")
-    rise = _exact(slope, "slope") * (t - at)
+    rise = to_exact(slope, "slope") * (t - at)
     return rise if at == 0 else rise * sp.Heaviside(t - at)
 
 
 def _nonnegative(value: Any, entry: str) -> sp.Expr:
-    value = _exact(value, entry)
+    value = to_exact(value, entry)
     if not value.is_number or value.is_negative:
         raise SceneError(f"{entry} must be a number >= 0, got {value}")
     return value
@@ -214,6 +211,7 @@ class _Unsupported(Exception):
 _KINDS = "a power t**k, exp, cos, sin, cosh, sinh, Heaviside or DiracDelta of a linear argument"
 
 
+@lru_cache(maxsize=512)
 def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> InputTransform:
     """Exact Laplace transform of a forcing input, one rational part per delay.
 
@@ -234,6 +232,11 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     ------
     SceneError
         When f is not a sum of the supported products.
+
+    Notes
+    -----
+    Results are cached: scene construction, :func:`laplace_springs.solve` and
+    ``verify`` all ask for the same transforms.
 
     Examples
     --------

@@ -164,10 +164,10 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
 
     from .modes import modes
 
-    found = [m for m in modes(scene) if m.kind == "oscillatory"]
-    peaks = sorted(float(m.damped_frequency) for m in found)
+    found = modes(scene)
+    peaks = sorted(float(m.damped_frequency) for m in found if m.kind == "oscillatory")
     if omegas is None:
-        positive = [float(m.natural_frequency) for m in modes(scene) if float(m.natural_frequency) > 0]
+        positive = [float(m.natural_frequency) for m in found if m.kind != "rigid"]
         low, high = (min(positive) / 10, max(positive) * 10) if positive else (0.01, 100)
         omegas = np.union1d(np.geomspace(low, high, 4000), peaks)
     w = np.asarray(omegas, dtype=float)

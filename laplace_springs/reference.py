@@ -1,7 +1,8 @@
 """An independent high-precision route: the matrix exponential of the first-order system.
 
 Nothing here inverts a transform or uses the partial-fraction engine: x(t) comes from
-mpmath's ``expm`` of y' = [[0, I], [-M⁻¹K, -M⁻¹C]] y at a chosen precision. Tests and
+the matrix exponential of y' = [[0, I], [-M⁻¹K, -M⁻¹C]] y (mpmath's ``expm``, or
+python-flint's certified arb ``exp``) at a chosen precision. Tests and
 the benchmark compare the toolkit's answers with it.
 """
 
@@ -13,7 +14,8 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-__all__ = ["reference_motion", "relative_error", "first_order_matrix_mp"]
+__all__ = ["reference_motion", "reference_motion_arb", "reference_forced_motion",
+           "relative_error", "first_order_system", "first_order_matrix_mp"]
 
 
 def _mp_matrix(matrix: sp.MatrixBase) -> mpmath.matrix:
@@ -25,16 +27,21 @@ def _mp_matrix(matrix: sp.MatrixBase) -> mpmath.matrix:
 
 
 def first_order_matrix_mp(scene) -> mpmath.matrix:
-    """Z = [[0, I], [-M⁻¹K, -M⁻¹C]] at the current mpmath precision (numeric scenes)."""
-    n = scene.n
-    Minv = mpmath.inverse(_mp_matrix(scene.M))
-    A, B = Minv * _mp_matrix(scene.K), Minv * _mp_matrix(scene.C)
-    Z = mpmath.zeros(2 * n, 2 * n)
-    for i in range(n):
-        Z[i, n + i] = 1
-        for j in range(n):
-            Z[n + i, j], Z[n + i, n + j] = -A[i, j], -B[i, j]
-    return Z
+    """Z of :func:`first_order_system` at the current mpmath precision (numeric scenes)."""
+    return _mp_matrix(first_order_system(scene)[0])
+
+
+def _expm_motion(Z: sp.MatrixBase, y0: sp.MatrixBase, n: int, times: Sequence,
+                 dps: int) -> np.ndarray:
+    """The first n entries of exp(Z t)·y0 by mpmath at ``dps`` digits, one column per time."""
+    with mpmath.workdps(dps):
+        Z, y0 = _mp_matrix(Z), _mp_matrix(y0)
+        out = np.empty((n, len(times)), dtype=object)
+        for col, tv in enumerate(times):
+            y = mpmath.expm(Z * _to_mpf(tv)) * y0
+            for i in range(n):
+                out[i, col] = +y[i]
+        return out
 
 
 def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
@@ -43,7 +50,8 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
     Parameters
     ----------
     scene : Scene
-        A scene with numeric entries and positive definite M.
+        A scene with numeric entries and invertible M, or massless nodes held by
+        dashpots (see :func:`first_order_system`).
     times : sequence
         Times (floats are read by their shortest decimal form; strings as decimals).
     dps : int
@@ -62,16 +70,8 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
     >>> mpmath.nstr(x[0, 0], 15)
     '0.54030230586814'
     """
-    n = scene.n
-    with mpmath.workdps(dps):
-        Z = first_order_matrix_mp(scene)
-        y0 = mpmath.matrix([*_mp_matrix(scene.x0), *_mp_matrix(scene.v0)])
-        out = np.empty((n, len(times)), dtype=object)
-        for col, tv in enumerate(times):
-            y = mpmath.expm(Z * _to_mpf(tv)) * y0
-            for i in range(n):
-                out[i, col] = +y[i]
-        return out
+    Z, y0, n = first_order_system(scene)
+    return _expm_motion(Z, y0, n, times, dps)
 
 
 def _to_mpf(value) -> mpmath.mpf:
@@ -261,8 +261,6 @@ def reference_motion_arb(scene, times: Sequence, digits: int = 60,
     raise ArithmeticError(f"reference_motion_arb: {digits} digits not reached at {max_bits} bits")
 
 
-__all__.append("reference_motion_arb")
-__all__.append("first_order_system")
 
 
 def reference_forced_motion(scene, S, w0, G, times: Sequence, dps: int = 40) -> np.ndarray:
@@ -286,27 +284,21 @@ def reference_forced_motion(scene, S, w0, G, times: Sequence, dps: int = 40) -> 
     ('0.318816380805', '0.318816380805')
     """
     n = scene.n
-    with mpmath.workdps(dps):
-        Z = first_order_matrix_mp(scene)
-        S = _mp_matrix(sp.Matrix(S))
-        G = _mp_matrix(sp.Matrix(G))
-        m = S.rows
-        load = mpmath.inverse(_mp_matrix(scene.M)) * G
-        big = mpmath.zeros(2 * n + m, 2 * n + m)
-        for i in range(2 * n):
-            for j in range(2 * n):
-                big[i, j] = Z[i, j]
-        for i in range(n):
-            for j in range(m):
-                big[n + i, 2 * n + j] = load[i, j]
-        for i in range(m):
-            for j in range(m):
-                big[2 * n + i, 2 * n + j] = S[i, j]
-        y0 = mpmath.matrix([*_mp_matrix(scene.x0), *_mp_matrix(scene.v0),
-                            *_mp_matrix(sp.Matrix(w0))])
-        out = np.empty((n, len(times)), dtype=object)
-        for col, tv in enumerate(times):
-            y = mpmath.expm(big * _to_mpf(tv)) * y0
-            for i in range(n):
-                out[i, col] = +y[i]
-        return out
+    Z, y0, _ = first_order_system(scene)
+    if Z.rows != 2 * n:
+        from .errors import SceneError
+
+        raise SceneError("reference_forced_motion needs an invertible M (no massless nodes)")
+    S, G, w0 = (_exact(rows, name) for rows, name in ((S, "S"), (G, "G"), ([w0], "w0")))
+    load = sp.Matrix.vstack(sp.zeros(n, S.rows), sp.Matrix(scene.M).inv() * G)
+    big = sp.Matrix.vstack(sp.Matrix.hstack(Z, load),
+                           sp.Matrix.hstack(sp.zeros(S.rows, 2 * n), S))
+    return _expm_motion(big, sp.Matrix.vstack(y0, w0.T), n, times, dps)
+
+
+def _exact(rows, name: str) -> sp.Matrix:
+    """Nested rows of numbers or decimal strings as an exact matrix (never sympified text)."""
+    from .numbers import to_exact
+
+    return sp.Matrix([[to_exact(v, f"{name}[{i},{j}]") for j, v in enumerate(row)]
+                      for i, row in enumerate(rows)])
