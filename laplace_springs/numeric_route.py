@@ -382,25 +382,37 @@ class Block:
 
     def reach(self, times: np.ndarray) -> np.ndarray:
         """‖y₀‖·‖e^{Tt}‖_F at each time: how far an absolute error in ``c`` travels."""
-        m = len(self.T)
-        columns = [np.linalg.norm(self.exp_times(times, np.eye(m)[:, j]), axis=0) for j in range(m)]
-        return np.sqrt(np.sum(np.square(columns), axis=0)) * self.y0_norm
+        return np.linalg.norm(self.exp_matrices(times), axis=(1, 2)) * self.y0_norm
 
-    def exp_times(self, times: np.ndarray, vector: np.ndarray) -> np.ndarray:
-        """e^{T t}·vector for each t, shape (m, len(times)), via e^{μt} e^{(T-μ)t}."""
-        N = self.T - self.center * np.eye(len(self.T))
+    @cached_property
+    def shift(self) -> complex:
+        """The rightmost real part of T's eigenvalues, with the centre's imaginary part.
+
+        Factoring out e^{shift·t} leaves e^{(T - shift)t} bounded by its non-normality
+        alone, so neither factor overflows when the block spans many decades of rates.
+        """
+        return complex(np.max(np.linalg.eigvals(self.T).real), self.center.imag)
+
+    def exp_matrices(self, times: np.ndarray) -> np.ndarray:
+        """e^{T t} for each t, shape (len(times), m, m), as e^{shift·t} e^{(T - shift)t}."""
+        times = np.asarray(times, dtype=float)
+        N = self.T - self.shift * np.eye(len(self.T))
         norm = np.linalg.norm(N, 1)
-        out = np.empty((len(self.T), len(times)), dtype=complex)
+        out = np.empty((len(times), len(self.T), len(self.T)), dtype=complex)
         squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm * np.abs(times), 1e-300)))).astype(int)
         for s in np.unique(squarings):
             cols = np.flatnonzero(squarings == s)
-            out[:, cols] = _exp_batch(N, times[cols], int(s), vector)
+            out[cols] = _exp_batch(N, times[cols], int(s))
         with np.errstate(over="ignore", invalid="ignore"):
-            return out * np.exp(self.center * times)
+            return out * np.exp(self.shift * times)[:, None, None]
+
+    def exp_times(self, times: np.ndarray, vector: np.ndarray) -> np.ndarray:
+        """e^{T t}·vector for each t, shape (m, len(times))."""
+        return np.einsum("tij,j->it", self.exp_matrices(times), vector)
 
 
-def _exp_batch(N: np.ndarray, times: np.ndarray, squarings: int, vector: np.ndarray) -> np.ndarray:
-    """e^{N t}·vector for the given times: Taylor series of degree 20 on N t/2^s, squared s times."""
+def _exp_batch(N: np.ndarray, times: np.ndarray, squarings: int) -> np.ndarray:
+    """e^{N t} for the given times: Taylor series of degree 20 on N t/2^s, squared s times."""
     A = N[None, :, :] * (times[:, None, None] / 2.0**squarings)
     E = np.broadcast_to(np.eye(len(N), dtype=complex), A.shape).copy()
     term = E.copy()
@@ -409,7 +421,7 @@ def _exp_batch(N: np.ndarray, times: np.ndarray, squarings: int, vector: np.ndar
         E = E + term
     for _ in range(squarings):
         E = E @ E
-    return (E @ vector).T
+    return E
 
 
 @dataclass(frozen=True, eq=False)
@@ -469,6 +481,10 @@ class Modes:
             vector = np.linalg.matrix_power(block.T, order) @ block.c
             total = total + factor * (block.F @ block.exp_times(times, vector))
         return total.real
+
+    def values_and_errors(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`values` and :meth:`error_estimate` together."""
+        return self.values(times), self.error_estimate(times)
 
     def error_estimate(self, times: np.ndarray) -> np.ndarray:
         """A first-order estimate of the absolute float64 error of :meth:`values`.
@@ -838,8 +854,7 @@ class NumericSolution:
         times = np.atleast_1d(np.asarray(times, dtype=float))
         if not np.all(np.isfinite(times)):
             raise ValueError("times must be finite")
-        values = self.modes.values(times)
-        return (values, self.modes.error_estimate(times)) if return_error else values
+        return self.modes.values_and_errors(times) if return_error else self.modes.values(times)
 
     @cached_property
     def x(self) -> sp.ImmutableMatrix:

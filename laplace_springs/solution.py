@@ -484,9 +484,12 @@ def solve(scene: Scene, *, method: str = "auto"):
         uses the conditioned eigen-decomposition of the linearised quadratic eigenvalue
         problem (:mod:`laplace_springs.numeric_route`; unforced numeric scenes with
         invertible M). "auto" is exact unless the scene is numeric, unforced, has more
-        than :data:`EXACT_LIMIT` coordinates and invertible M (up to twice that many
-        coordinates, also only if the numeric route's own error estimate is below
-        1e-12); the result's ``method`` and ``reason`` say which route was taken.
+        than :data:`EXACT_LIMIT` coordinates and invertible M. When the float64
+        route's own error estimate exceeds 1e-12 (stiff, widely scaled scenes), the
+        modes are recomputed in ball arithmetic (:mod:`laplace_springs.precise_route`)
+        if the eigenvalues are simple; failing that, the exact route is taken up to
+        twice :data:`EXACT_LIMIT` coordinates and the float64 route beyond. The
+        result's ``method`` and ``reason`` say which route was taken.
 
     Returns
     -------
@@ -517,13 +520,24 @@ def solve(scene: Scene, *, method: str = "auto"):
                   f"auto: {scene.n} coordinates > EXACT_LIMIT = {EXACT_LIMIT} "
                   f"(Δ of degree {2 * scene.n}); the exact route would take seconds")
         numeric = solve_numeric(scene, reason=reason)
-        if method == "numeric" or _well_conditioned(numeric) or scene.n > 2 * EXACT_LIMIT:
+        if method == "numeric" or _well_conditioned(numeric):
             return numeric
+        better = _precise_or_none(scene, reason)
+        if better is not None or scene.n > 2 * EXACT_LIMIT:
+            return better if better is not None else numeric
     R = resolvent(scene)
     if not scene.is_forced:
         return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
     pieces = _forced_pieces(scene, R)
     return Solution(scene, R, pieces[0].terms, pieces)
+
+
+def _precise_or_none(scene: Scene, reason: str):
+    """The ball-arithmetic modal route (:mod:`~laplace_springs.precise_route`), if it applies."""
+    from .precise_route import solve_precise
+
+    return solve_precise(scene, reason=reason + "; float64 eigenvectors were not accurate enough "
+                         "(error estimate above 1e-12), so the modes were computed in ball arithmetic")
 
 
 def _well_conditioned(numeric) -> bool:
