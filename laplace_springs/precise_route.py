@@ -15,9 +15,13 @@ so through its error estimate. This route is what "auto" does next for large sce
    ball's midpoint and the returned error its radius plus the final rounding. When the
    radius exceeds 1e-17 of max |x|, the decomposition is recomputed at twice the bits.
 
-Flint isolates eigenvalues only when they are simple. Repeated eigenvalues (rigid-body
-modes, symmetric frequencies, critical damping) make :func:`decompose_precise` return
-``None``; "auto" then falls back as :func:`laplace_springs.solve` documents.
+Flint isolates eigenvalues only when they are simple. Rigid-body motions (directions r
+with K r = C r = 0, e.g. a free–free chain) give the double eigenvalue 0; they are split
+off exactly first: with Nₗ the left null vectors of K and C, Nₗᵀ M x(t) = Nₗᵀ M (x₀ + v₀ t)
+fixes the rigid part, and the rest moves in the complement Q = ker(Nₗᵀ M) as the smaller
+scene (QᵀMQ, QᵀCQ, QᵀKQ). Other repeated eigenvalues (symmetric frequencies, critical
+damping) make :func:`decompose_precise` return ``None``; "auto" then falls back as
+:func:`laplace_springs.solve` documents.
 
 Measured (2 cores): a 20-mass chain with alternating springs 1 and 1e8 is solved and
 evaluated at 50 times in about 0.3 s with error 2e-16, where float64 gives 1.3e-7; the
@@ -30,8 +34,9 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
+import sympy as sp
 
-from .numeric_route import Modes, NumericSolution, _arb_first_order
+from .numeric_route import Block, Modes, NumericSolution, _arb_first_order
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -47,12 +52,78 @@ MAX_ORDER = 200
 
 
 @dataclass(frozen=True, eq=False)
+class _Split:
+    """x(t) = lift·q(t) + offset + slope·t, q the motion of the scene ``inner`` (exact)."""
+
+    inner: Scene
+    lift: sp.Matrix
+    offset: sp.Matrix
+    slope: sp.Matrix
+
+
+@dataclass(frozen=True, eq=False)
 class _Balls:
-    """The decomposition at one precision: eigenvalues and weights as flint balls."""
+    """The decomposition at one precision: eigenvalues, weights and rigid part as balls."""
 
     bits: int
     rates: list
     weights: object  # acb_mat, n x N
+    affine: tuple | None = None  # (offset, slope) as n x 1 arb_mat, for a split scene
+
+
+def _nullspace(rows: sp.Matrix) -> sp.Matrix:
+    """An exact basis (columns) of {y : rows·y = 0}, by python-flint's integer nullspace."""
+    from flint import fmpz_mat
+
+    integer = []
+    for i in range(rows.rows):
+        scale = sp.ilcm(*[sp.Rational(e).q for e in rows.row(i)], 1)
+        integer.append([int(e * scale) for e in rows.row(i)])
+    basis, rank = fmpz_mat(integer).nullspace()
+    return sp.Matrix([[int(basis[i, j]) for j in range(rank)] for i in range(rows.cols)])
+
+
+def rigid_split(scene: Scene) -> _Split | None:
+    """Split off the rigid-body motion (K r = C r = 0) exactly; None if there is none.
+
+    Also None for massless nodes, symbolic or non-rational entries, or when the
+    complement's mass matrix is singular (then the split would not be a scene).
+
+    Examples
+    --------
+    Two free masses joined by a spring: the centre of mass drifts at the mean velocity.
+
+    >>> from laplace_springs import Scene
+    >>> split = rigid_split(Scene.from_matrices(M=[[1, 0], [0, 1]], K=[[1, -1], [-1, 1]],
+    ...                                         x0=[1, 0], v0=[0, 2]))
+    >>> split.offset.T, split.slope.T, split.inner.M
+    (Matrix([[1/2, 1/2]]), Matrix([[1, 1]]), Matrix([[2]]))
+    """
+    matrices = (scene.M, scene.C, scene.K, scene.x0, scene.v0)
+    if any(not e.is_Rational for m in matrices for e in m) or scene.M.det() == 0:
+        return None
+    right = _nullspace(scene.K.col_join(scene.C))
+    if right.cols == 0:
+        return None
+    left = _nullspace(scene.K.T.col_join(scene.C.T))
+    lift = _nullspace(left.T * scene.M)
+    fixed = left.T * scene.M * right
+    if left.cols != right.cols or fixed.det() == 0 or lift.cols == 0:
+        return None
+    inner_mass = lift.T * scene.M * lift
+    if inner_mass.det() == 0:
+        return None
+    solve = fixed.inv() * left.T * scene.M
+    offset, slope = right * solve * scene.x0, right * solve * scene.v0
+    pseudo = (lift.T * lift).inv() * lift.T
+    q0, dq0 = pseudo * (scene.x0 - offset), pseudo * (scene.v0 - slope)
+    if lift * q0 != scene.x0 - offset or lift * dq0 != scene.v0 - slope:
+        return None
+    from .scene import Scene as _Scene
+
+    inner = _Scene.from_matrices(M=inner_mass, C=lift.T * scene.C * lift, K=lift.T * scene.K * lift,
+                                 x0=list(q0), v0=list(dq0))
+    return _Split(inner, lift, offset, slope)
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,12 +136,13 @@ class PreciseModes(Modes):
 
     scene: Scene | None = None
     balls: list = field(default_factory=list)
+    split: _Split | None = None
 
     def _decomposition(self, bits: int) -> _Balls | None:
         for known in self.balls:
             if known.bits == bits:
                 return known
-        found = _balls(self.scene, bits)
+        found = _balls(self.scene, self.split, bits)
         if found is not None:
             self.balls.append(found)
         return found
@@ -102,13 +174,14 @@ class PreciseModes(Modes):
         return self.values_and_errors(times)[1]
 
 
-def _balls(scene: Scene, bits: int) -> _Balls | None:
+def _balls(scene: Scene, split: _Split | None, bits: int) -> _Balls | None:
     """Eigenvalues and weights at ``bits``, or None if flint cannot isolate the eigenvalues."""
-    from flint import acb_mat, ctx
+    from flint import acb_mat, arb_mat, ctx, fmpq_mat
 
-    n = scene.n
+    moving = split.inner if split is not None else scene
+    n, digits = moving.n, int(bits / 3.33) + 10
     with ctx.workprec(bits):
-        Z, y0 = _arb_first_order(scene, int(bits / 3.33) + 10)
+        Z, y0 = _arb_first_order(moving, digits)
         try:
             rates, L, R = acb_mat(Z).eig(left=True, right=True)
         except ValueError:
@@ -116,7 +189,17 @@ def _balls(scene: Scene, bits: int) -> _Balls | None:
         c = L * acb_mat(y0)
         size = len(rates)
         weights = acb_mat(n, size, [R[i, k] * c[k, 0] for i in range(n) for k in range(size)])
-    return _Balls(bits, list(rates), weights)
+        if split is None:
+            return _Balls(bits, list(rates), weights)
+        exact = [acb_mat(arb_mat(fmpq_mat(m.rows, m.cols, [_fmpq(e) for e in m])))
+                 for m in (split.lift, split.offset, split.slope)]
+        return _Balls(bits, list(rates), exact[0] * weights, (exact[1], exact[2]))
+
+
+def _fmpq(value: sp.Rational):
+    from flint import fmpq
+
+    return fmpq(int(value.p), int(value.q))
 
 
 def _evaluate(balls: _Balls, times: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
@@ -128,6 +211,12 @@ def _evaluate(balls: _Balls, times: np.ndarray, order: int) -> tuple[np.ndarray,
         stamps = [arb(float(tv)) for tv in times]  # floats are read by their binary value
         entries = [(rate**order) * (rate * acb(tv)).exp() for rate in balls.rates for tv in stamps]
         values = balls.weights * acb_mat(size, len(times), entries)
+        if balls.affine is not None and order <= 1:
+            offset, slope = balls.affine
+            ramp = [stamp if order == 0 else arb(1) for stamp in stamps]
+            values = values + slope * acb_mat(1, len(times), ramp)
+            if order == 0:
+                values = values + offset * acb_mat(1, len(times), [1] * len(times))
         parts = [values[i, j].real for i in range(n) for j in range(len(times))]
     mid = np.array([float(p.mid()) for p in parts]).reshape(n, len(times))
     rad = np.array([float(p.rad()) for p in parts]).reshape(n, len(times))
@@ -156,15 +245,16 @@ def decompose_precise(scene: Scene, *, bits: int = 128, max_bits: int = 1024) ->
     """
     if 2 * scene.n > MAX_ORDER:
         return None
+    split = rigid_split(scene)
     while bits <= max_bits:
-        balls = _balls(scene, bits)
+        balls = _balls(scene, split, bits)
         if balls is not None:
-            return _modes_of(scene, balls)
+            return _modes_of(scene, split, balls)
         bits *= 2
     return None
 
 
-def _modes_of(scene: Scene, balls: _Balls) -> PreciseModes:
+def _modes_of(scene: Scene, split: _Split | None, balls: _Balls) -> PreciseModes:
     from flint import ctx
 
     with ctx.workprec(balls.bits):
@@ -173,8 +263,15 @@ def _modes_of(scene: Scene, balls: _Balls) -> PreciseModes:
         weights = np.array([[complex(balls.weights[i, k].real.mid(), balls.weights[i, k].imag.mid())
                              for k in range(len(rates))] for i in range(scene.n)])
     norm = float(np.max(np.abs(rates), initial=0.0))
-    return PreciseModes(rates, weights, np.ones(len(rates)), radii, (), norm,
-                        np.zeros_like(weights, dtype=float), (), scene=scene, balls=[balls])
+    blocks = () if split is None else (_rigid_block(split),)
+    return PreciseModes(rates, weights, np.ones(len(rates)), radii, blocks, norm,
+                        np.zeros_like(weights, dtype=float), (), scene=scene, balls=[balls], split=split)
+
+
+def _rigid_block(split: _Split) -> Block:
+    """offset + slope·t as F e^{Tt} c with T = [[0, 1], [0, 0]], c = (0, 1): poles 0, 0."""
+    F = np.array([[float(a), float(b)] for a, b in zip(split.slope, split.offset)], dtype=complex)
+    return Block(np.array([[0, 1], [0, 0]], dtype=complex), F, np.array([0, 1], dtype=complex), 1.0)
 
 
 def solve_precise(scene: Scene, *, reason: str) -> NumericSolution | None:

@@ -75,3 +75,24 @@ def test_repeated_eigenvalues_are_declined(scene):
 def test_well_conditioned_large_scenes_stay_on_the_float_route():
     sol = solve(chain(12))
     assert sol.method == "numeric" and not isinstance(sol.modes, PreciseModes)
+
+
+def test_free_free_stiff_chain_splits_off_its_rigid_motion():
+    # springs 1 and 1e8 alternate, no walls: the double pole at 0 is split off exactly
+    scene = chain(20, stiff="100000000", ends=("free", "free"))
+    sol = _check(scene, np.array([0.0, 0.3, 2.0, 7.5, 40.0]))
+    assert isinstance(sol.modes, PreciseModes) and sol.modes.split is not None
+    assert np.sum(np.abs(sol.poles) < 1e-12) == 2
+
+
+def test_two_free_masses_joined_by_a_dashpot_only():
+    # K = 0: the inner scene keeps a simple pole at 0 and one at -c(1/m1 + 1/m2)
+    scene = Scene.from_matrices(M=[[1, 0], [0, 3]], C=[["1/2", "-1/2"], ["-1/2", "1/2"]],
+                                x0=[1, -1], v0=[2, 0])
+    sol = solve_precise(scene, reason="test")
+    times = np.array([0.0, 1.0, 10.0, 100.0])
+    values, errors = sol.evaluate(times, return_error=True)
+    reference = reference_motion_arb(scene, list(times), digits=25)
+    assert relative_error(values, reference) < 1e-15
+    assert np.all(np.abs(values - reference.astype(float)) <= errors + 1e-300)
+    assert sol.verify()
