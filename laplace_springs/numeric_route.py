@@ -56,6 +56,8 @@ KAPPA_MAX = 1e3
 #: Condition number above which a mode is treated in a block if it is also near another
 #: eigenvalue (closer than NEAR times its own modulus): a nearly defective pair.
 KAPPA_NEAR, NEAR = 10.0, 0.1
+#: Relative error estimate above which float evaluation switches to ball arithmetic.
+ESCALATE = 1e-13
 #: Largest number of eigenvalues grouped around one ill-conditioned eigenvalue.
 MAX_GROUP = 8
 _EPS = np.finfo(float).eps
@@ -826,7 +828,11 @@ class NumericSolution:
             Times (a scalar is one time). With ``dps``, floats are read by their
             shortest decimal form and strings as exact decimals, as in the exact route.
         dps : int, optional
-            Without it, float64 from the eigen-decomposition. With it, an object array of
+            Without it, float64 from the eigen-decomposition; where that decomposition's
+            own error estimate exceeds :data:`ESCALATE` of max |x| over the times asked
+            (stiff data, long horizons), the modes are recomputed once in ball
+            arithmetic (:mod:`laplace_springs.precise_route`) and used from then on,
+            when the scene's eigenvalues allow it. With it, an object array of
             mpmath numbers certified to ``dps`` digits relative to max |x| (ball-arithmetic
             matrix exponential of the exact data; see :func:`certified_motion`).
         return_error : bool
@@ -854,7 +860,20 @@ class NumericSolution:
         times = np.atleast_1d(np.asarray(times, dtype=float))
         if not np.all(np.isfinite(times)):
             raise ValueError("times must be finite")
-        return self.modes.values_and_errors(times) if return_error else self.modes.values(times)
+        values, errors = self.modes.values_and_errors(times)
+        if float(np.max(errors, initial=0.0)) > ESCALATE * float(np.max(np.abs(values), initial=0.0)):
+            if self._precise is not None:
+                values, errors = self._precise.values_and_errors(times)
+        return (values, errors) if return_error else values
+
+    @cached_property
+    def _precise(self):
+        """The ball-arithmetic modes of the scene (None where they do not apply)."""
+        from .precise_route import MAX_ORDER, PreciseModes, decompose_precise
+
+        if isinstance(self.modes, PreciseModes) or 2 * self.scene.n > MAX_ORDER:
+            return None
+        return decompose_precise(self.scene)
 
     @cached_property
     def x(self) -> sp.ImmutableMatrix:

@@ -542,7 +542,7 @@ def _precise_or_none(scene: Scene, reason: str):
 
 def _well_conditioned(numeric) -> bool:
     """Whether the numeric route's own error estimate at t = 0 and 1 is below 1e-12."""
-    values, error = numeric.evaluate([0.0, 1.0], return_error=True)
+    values, error = numeric.modes.values_and_errors(np.array([0.0, 1.0]))  # float64, no escalation
     return float(error.max()) <= 1e-12 * max(float(np.abs(values).max()), 1e-300)
 
 

@@ -96,3 +96,28 @@ def test_two_free_masses_joined_by_a_dashpot_only():
     assert relative_error(values, reference) < 1e-15
     assert np.all(np.abs(values - reference.astype(float)) <= errors + 1e-300)
     assert sol.verify()
+
+
+def test_float_evaluation_escalates_over_a_long_horizon():
+    # a lightly damped 20-mass chain: float64 rates drift by ~1e-15·t, so at t = 1e5 the
+    # float route's own estimate exceeds 1e-13 and evaluate switches to ball arithmetic
+    scene = chain(20, damping="1/1000")
+    sol = solve(scene)
+    assert not isinstance(sol.modes, PreciseModes)
+    times = np.array([0.0, 1.0, 3.0e4, 1.0e5])
+    values, errors = sol.evaluate(times, return_error=True)
+    reference = reference_motion_arb(scene, list(times), digits=25)
+    assert relative_error(values, reference) < 1e-15
+    assert np.all(np.abs(values - reference.astype(float)) <= errors + 1e-300)
+
+
+def test_float_route_block_spanning_decades_stays_finite():
+    # mass ratio 1e-6 in a 20-mass chain: one block holds poles from -2e4 to ~0; its
+    # exponential is taken relative to its rightmost rate (it used to overflow to NaN)
+    from laplace_springs.numeric_route import solve_numeric
+
+    scene = chain(20, light="1/1000000")
+    times = np.linspace(0.0, 20.0, 9)
+    values, errors = solve_numeric(scene).modes.values_and_errors(times)
+    reference = reference_motion_arb(scene, list(times), digits=20).astype(float)
+    assert np.all(np.isfinite(values)) and np.all(np.abs(values - reference) <= errors)
