@@ -382,10 +382,6 @@ class Block:
         return Block(self.T + E * (size / np.linalg.norm(E, 2)), self.F, self.c, self.kappa, self.y0_norm,
                      self.basis_error)
 
-    def reach(self, times: np.ndarray) -> np.ndarray:
-        """‖y₀‖·‖e^{Tt}‖_F at each time: how far an absolute error in ``c`` travels."""
-        return np.linalg.norm(self.exp_matrices(times), axis=(1, 2)) * self.y0_norm
-
     @cached_property
     def shift(self) -> complex:
         """The rightmost real part of T's eigenvalues, with the centre's imaginary part.
@@ -508,9 +504,11 @@ class Modes:
             total += (np.abs(self.weights) * self.rate_error) @ (growth * np.abs(times))
         rng = np.random.default_rng(_RNG_SEED)
         for block, factor in self._half_blocks():
-            inner = block.exp_times(times, block.c)
+            exps = block.exp_matrices(times)
+            inner = np.einsum("tij,j->it", exps, block.c)
             moved = block.perturbed(unit * self.norm, rng).exp_times(times, block.c)
-            spread = np.linalg.norm(inner, axis=0) + block.reach(times)
+            # ‖y₀‖‖e^{Tt}‖_F: how far an absolute error in c travels
+            spread = np.linalg.norm(inner, axis=0) + np.linalg.norm(exps, axis=(1, 2)) * block.y0_norm
             total = total + factor * unit * block.kappa * np.linalg.norm(block.F, 2) * spread
             total = total + factor * 3 * np.abs(block.F @ (moved - inner))
         return total
@@ -861,9 +859,9 @@ class NumericSolution:
         if not np.all(np.isfinite(times)):
             raise ValueError("times must be finite")
         values, errors = self.modes.values_and_errors(times)
-        if float(np.max(errors, initial=0.0)) > ESCALATE * float(np.max(np.abs(values), initial=0.0)):
-            if self._precise is not None:
-                values, errors = self._precise.values_and_errors(times)
+        loose = float(np.max(errors, initial=0.0)) > ESCALATE * float(np.max(np.abs(values), initial=0.0))
+        if loose and self._precise is not None:
+            values, errors = self._precise.values_and_errors(times)
         return (values, errors) if return_error else values
 
     @cached_property
