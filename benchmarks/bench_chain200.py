@@ -30,8 +30,8 @@ import flint  # noqa: E402
 import numpy as np  # noqa: E402
 
 from laplace_springs import Scene  # noqa: E402
-from laplace_springs.numeric_route import solve_numeric  # noqa: E402
-from laplace_springs.reference import _exact_rational_matrix, first_order_system  # noqa: E402
+from laplace_springs.numeric.modal import solve_numeric  # noqa: E402
+from laplace_springs.bench.reference import _exact_rational_matrix, first_order_system  # noqa: E402
 
 
 def damped_chain(n: int) -> Scene:
@@ -79,7 +79,7 @@ def scipy_expm(scene: Scene, times: np.ndarray):
         from scipy.linalg import expm
     except ImportError:
         return None
-    from laplace_springs.numeric_route import scene_arrays
+    from laplace_springs.numeric.modal import scene_arrays
 
     M, C, K, x0, v0 = scene_arrays(scene)
     n = scene.n

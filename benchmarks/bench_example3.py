@@ -8,7 +8,7 @@ quantities symbols (the physics-correct coupling -k2 x1 in the second equation; 
 seed's page writes -k3 x1, see DESIGN.md). Targets (issue 5): ≤ 2 s and ≤ 500
 operations (``sympy.count_ops``) over both coordinates of the named form, definitions
 counted separately, and the right numbers after substituting the seed's values
-(compared with the independent mpmath matrix exponential of laplace_springs.reference).
+(compared with the independent mpmath matrix exponential of laplace_springs.bench.reference).
 """
 
 from __future__ import annotations
@@ -20,9 +20,9 @@ import time
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.numbers import to_exact
-from laplace_springs.reference import reference_motion, relative_error
-from laplace_springs.symbolic_forms import definitions, expand_names
+from laplace_springs.model.numbers import to_exact
+from laplace_springs.bench.reference import reference_motion, relative_error
+from laplace_springs.exact.named import definitions, expand_names
 
 SEED_VALUES = {"m1": "1", "m2": "2/3", "k1": "0.3", "k2": "0.08", "k3": "0.2",
                "d1": "-0.08", "d2": "0.4", "v1": "0.15", "v2": "-0.3"}

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import laplace_springs as ls  # noqa: E402
-from laplace_springs.plotting import plot_motion  # noqa: E402
+from laplace_springs.output.plots import plot_motion  # noqa: E402
 
 _METADATA = {"Software": None}
 

@@ -1,6 +1,8 @@
 """laplace_springs: exact Laplace-transform solutions of spring–mass–damper systems.
 
-The data flow is Scene → Resolvent → partial fractions → Solution → outputs:
+The data flow is Scene → Resolvent → partial fractions → Solution → outputs; the stages
+are the subpackages ``model``, ``exact``, ``numeric``, ``analysis`` and ``output``, and
+:mod:`laplace_springs.policy` decides which route solves a scene:
 
 >>> import laplace_springs as ls
 >>> scene = ls.Scene.from_normalized(A=[[3, -1], [-2, 2]], x0=[1, 0], v0=[0, 0])
@@ -10,23 +12,30 @@ Matrix([
 [2*cos(t)/3 - 2*cos(2*t)/3]])
 """
 
-from .errors import InversionError, SceneError
-from .forcing import cosine, impulse, ramp, sine, step
-from .frequency import frequency_response, omega, plot_frequency_response, steady_state_amplitude
-from .inverse import inverse_laplace, inverse_laplace_terms
-from .modes import Mode, modes
-from .partial_fractions import partial_fractions
-from .resolvent import Resolvent, lam, resolvent
-from .scene import Scene
-from .scene_files import bundled_scenes, load_scene
-from .solution import Solution, solve, t
+from ._version import __version__
+from .analysis.frequency import frequency_response, omega, steady_state_amplitude
+from .analysis.modes import Mode, modes
+from .exact.inverse import inverse_laplace, inverse_laplace_terms
+from .exact.partial_fractions import partial_fractions
+from .exact.resolvent import Resolvent, resolvent
+from .model.errors import InversionError, SceneError
+from .model.forcing import cosine, impulse, ramp, sine, step
+from .model.scene import Scene
+from .model.scene_files import bundled_scenes, load_scene
+from .model.symbols import lam
+from .output.drawing import draw_scene
+from .output.latex import resolvent_latex
+from .output.plots import plot_frequency_response
+from .policy import TARGET
+from .solution import CertifiedSolution, ExactSolution, ModalSolution, Solution, Verification, t
+from .solve import solve
 
 __all__ = [
     "Scene", "SceneError", "InversionError", "load_scene", "bundled_scenes",
-    "resolvent", "Resolvent", "lam", "partial_fractions", "inverse_laplace",
-    "inverse_laplace_terms", "solve", "Solution", "t",
+    "resolvent", "Resolvent", "resolvent_latex", "lam", "partial_fractions", "inverse_laplace",
+    "inverse_laplace_terms", "solve", "Solution", "ExactSolution", "ModalSolution",
+    "CertifiedSolution", "Verification", "TARGET", "t",
     "cosine", "sine", "step", "impulse", "ramp",
     "modes", "Mode", "frequency_response", "steady_state_amplitude",
-    "plot_frequency_response", "omega",
+    "plot_frequency_response", "draw_scene", "omega", "__version__",
 ]
-__version__ = "0.1.0"

@@ -24,17 +24,22 @@ import math
 import os
 import sys
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, TextIO
+from typing import TextIO
 
 import mpmath
 import numpy as np
 import sympy as sp
 
-import laplace_springs as ls
-
-if TYPE_CHECKING:
-    from laplace_springs.scene import Scene
-    from laplace_springs.solution import Solution
+from ._version import __version__
+from .analysis.frequency import frequency_response
+from .analysis.modes import modes
+from .bench import harness as bm
+from .model.scene import Scene
+from .model.scene_files import bundled_scenes, load_scene
+from .model.symbols import lam
+from .output.plots import overview_figure, plot_frequency_response
+from .solution import Solution
+from .solve import solve
 
 __all__ = ["main"]
 
@@ -52,7 +57,7 @@ def _build_parser() -> argparse.ArgumentParser:
         prog=PROG,
         description="Exact Laplace-transform solutions of spring-mass-damper systems.",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {ls.__version__}")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     solve = commands.add_parser("solve", help="solve a scene and print x(t)",
@@ -153,7 +158,7 @@ def _root_legend(names: dict[sp.CRootOf, sp.Symbol]) -> list[str]:
     for root, name in names.items():
         # CRootOf holds a generator-free PurePoly, and SymPy's cache may hand back an
         # instance first built in another variable: always print p in λ.
-        poly = sp.sstr(root.poly.as_expr(ls.lam))
+        poly = sp.sstr(root.poly.as_expr(lam))
         lines.append(f"  {name} = CRootOf({poly}, {root.index}) ≈ {sp.sstr(sp.N(root, 15))}")
     return lines
 
@@ -200,10 +205,10 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     _check_dps(args)
     _check_latex_options(args)
     times = parse_times(args.at) if args.at is not None else None
-    scene = ls.load_scene(args.scene)
+    scene = load_scene(args.scene)
     if args.forcing:
         scene = scene.with_forcing(_forcing_argument(scene, args.forcing))
-    solution = ls.solve(scene)
+    solution = solve(scene)
     if args.plot:
         _save_plot(solution, args.plot)
     if args.latex:
@@ -248,19 +253,19 @@ def _add_response_command(commands) -> None:
 
 
 def _run_response(args: argparse.Namespace, out: TextIO) -> None:
-    scene = ls.load_scene(args.scene)
+    scene = load_scene(args.scene)
     if not 1 <= args.force <= scene.n:
         raise ValueError(f"--force must be between 1 and {scene.n}, got {args.force}")
     lines = [scene.title] if scene.title else []
     lines.append(f"{'mode':>4}  {'omega_n':>12}  {'zeta':>10}  {'omega_d':>12}  shape")
-    for k, mode in enumerate(ls.modes(scene), start=1):
+    for k, mode in enumerate(modes(scene), start=1):
         zeta = "-" if mode.damping_ratio is None else f"{float(mode.damping_ratio):.6g}"
         shape = ", ".join(_format_complex(v) for v in mode.shape)
         lines.append(f"{k:>4}  {float(mode.natural_frequency):>12.6g}  {zeta:>10}  "
                      f"{float(mode.damped_frequency):>12.6g}  [{shape}]  ({mode.kind})")
     if args.at is not None:
         omegas = parse_times(args.at)
-        H = ls.frequency_response(scene, omegas)[:, :, args.force - 1]
+        H = frequency_response(scene, omegas)[:, :, args.force - 1]
         lines.append(f"amplitude per unit force on {scene.names[args.force - 1]}:")
         lines += _table_lines(scene.names, omegas, np.abs(H).T, TABLE_DIGITS, variable="omega")
     if args.plot:
@@ -282,7 +287,7 @@ def _save_response_plot(scene: Scene, force: int, path: str) -> None:
         matplotlib.use("Agg")
     except ImportError as exc:
         raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
-    ls.plot_frequency_response(scene, force=force).savefig(path, dpi=100)
+    plot_frequency_response(scene, force=force).savefig(path, dpi=100)
 
 
 def _check_latex_options(args: argparse.Namespace) -> None:
@@ -304,14 +309,14 @@ def _write_latex(solution: Solution, args: argparse.Namespace, out: TextIO) -> N
 def _save_plot(solution: Solution, path: str) -> None:
     """Write the diagram and motion plot (no display needed)."""
     try:
-        from laplace_springs.plotting import overview_figure
+        figure = overview_figure(solution)
     except ImportError as exc:
         raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
-    overview_figure(solution).savefig(path, dpi=100)
+    figure.savefig(path, dpi=100)
 
 
 def _add_bench_command(commands) -> None:
-    """``laplace-springs bench``: error against run time (see laplace_springs.benchmark)."""
+    """``laplace-springs bench``: error against run time (see laplace_springs.bench.harness)."""
     bench = commands.add_parser(
         "bench", help="error against run time: our routes and the peers on the battery",
         description="Measure error (against a 60-digit reference) and run time of every "
@@ -335,11 +340,10 @@ def _add_bench_command(commands) -> None:
     bench.add_argument("--list", action="store_true", help="list scenes and methods, run nothing")
 
     def run(args: argparse.Namespace, out: TextIO) -> None:
-        from laplace_springs import benchmark as bm
-
         if args.time_limit <= 0 or args.sympy_limit <= 0:
             raise ValueError("--time-limit and --sympy-limit must be positive")
-        split = (lambda text: [p.strip() for p in text.split(",") if p.strip()] if text else None)
+        def split(text):
+            return ([p.strip() for p in text.split(",") if p.strip()] if text else None)
         if args.list:
             cases = bm.default_cases(large=args.large)
             print("scenes: " + ", ".join(case.name for case in cases), file=out)
@@ -359,7 +363,7 @@ def _add_bench_command(commands) -> None:
 
 
 def _run_scenes(args: argparse.Namespace, out: TextIO) -> None:
-    scenes = ls.bundled_scenes()
+    scenes = bundled_scenes()
     width = max((len(name) for name in scenes), default=0)
     for name, title in scenes.items():
         print(f"{name.ljust(width)}  {title}", file=out)

@@ -1,100 +1,97 @@
-"""Assemble x(t) from the resolvent: solve(), the Solution object and its g-basis.
+"""The result contract: one :class:`Solution` interface for every route.
 
-Each coordinate X_i(λ) = N_i(λ)/Δ(λ) is inverted by the shared partial-fraction engine
-(the denominator is factored once). The seed's basis g_k(t) = L⁻¹[λ^k/Δ(λ)] and the
-coefficients c_ik with x_i(t) = Σ_k c_ik g_k(t) are available beside the closed form.
+Whatever :func:`laplace_springs.solve` returns answers the same questions the same way:
+
+* :attr:`Solution.x`: x(t) as a SymPy column matrix in :data:`laplace_springs.t`;
+* :meth:`Solution.evaluate`: float64 values with an error bound, or mpmath values to
+  ``dps`` digits with their bound, for x or its derivatives;
+* :meth:`Solution.verify`: the residuals of M x'' + C x' + K x = f and of the initial
+  data;
+* :attr:`Solution.method` (``"exact"``, ``"modal"`` or ``"certified"``),
+  :attr:`Solution.reason`, :attr:`Solution.escalation`;
+* :meth:`Solution.latex` and the plots.
+
+The accuracy promised, and when an evaluation escalates to a more precise route, is
+stated and decided in :mod:`laplace_springs.policy`. Each route implements three hooks:
+a float64 pass with a running error bound, an escalation for the times whose bound
+misses the target, and an evaluation to any number of digits.
 """
 
 from __future__ import annotations
 
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Sequence
+from typing import Any, ClassVar
 
 import mpmath
 import numpy as np
 import sympy as sp
 
-from .algebraic import numeric_value
-from .errors import SceneError
-from .evaluate import NumericTerms, _mp_time, evaluate_float, evaluate_mp, numeric_terms
-from .forcing import input_transform
-from .jumps import InitialJump, initial_jump, jump_residuals
-from .mp_expr import mp_value
-from .numbers import TIME
-from .partial_fractions import decompose
-from .real_terms import Term, group_terms, naming_scope, solution_terms, terms_expr
-from .resolvent import Resolvent, lam, resolvent
+from .exact.algebraic import numeric_value
+from .exact.assembly import ExactMotion, Piece, exact_motion
+from .exact.jumps import InitialJump, jump_residuals
+from .exact.real_terms import Term
+from .exact.resolvent import Resolvent
+from .model.errors import SceneError
+from .model.numbers import generic_values
+from .model.scene import Scene
+from .model.symbols import TIME
+from .numeric.certified import (
+    CertifiedPoles,
+    certified_digits,
+    certified_poles,
+    certified_values,
+    closed_form,
+)
+from .numeric.first_order import massless_nodes, scene_arrays
+from .numeric.modal import ModalMotion
+from .numeric.mp_expr import mp_value
+from .numeric.pole_sum import derivative_sum, two_diff
+from .numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
+from .numeric.times import Times, as_times, check_dps
+from .output.latex import matrix_latex, solution_latex
+from .output.plots import plot_energy, plot_motion, plot_phase
+from .policy import (
+    CERTIFIED_MAX_ORDER,
+    ESCALATION_DIGITS,
+    EXACT_FALLBACK_MAX_COORDINATES,
+    EXACT_FORM_MAX_COORDINATES,
+    check_target,
+    escalate_columns,
+    reference_scale,
+)
 
-if TYPE_CHECKING:
-    from .scene import Scene
-
-__all__ = ["t", "Piece", "Solution", "Verification", "solve"]
+__all__ = ["Solution", "ExactSolution", "ModalSolution", "CertifiedSolution", "Verification",
+           "DEFAULT_SAMPLES", "t"]
 
 #: Time, the variable of every solution (the results hold for t ≥ 0).
 t = TIME
 
-_METHODS = ("auto", "exact", "numeric")
+#: Sample times (besides t = 0) at which :meth:`Solution.verify` checks the equations.
+DEFAULT_SAMPLES: tuple[str, ...] = ("0.37", "1.3", "4.1")
 
-#: Largest number of coordinates "auto" solves exactly when the numeric route could
-#: serve (an unforced, numeric scene): above it Δ has degree > 16 and the exact route
-#: takes seconds (8 masses: 2-8 s) while the numeric route takes milliseconds.
-EXACT_LIMIT = 8
-
-
-def _terms_of(decompositions) -> tuple[tuple[Term, ...], ...]:
-    """Real terms per coordinate, named quantities numbered once for the whole solution."""
-    return solution_terms(decompositions)
-
-
-@dataclass(frozen=True)
-class Piece:
-    """One part of the motion: terms in the shifted time t − τ, switched on at t = τ.
-
-    The free response and every input starting at t = 0 form the piece with delay 0;
-    an input delayed by τ (a step or impulse at τ, a window's end) adds a piece with
-    that delay.
-
-    Attributes
-    ----------
-    delay : sympy.Expr
-        τ ≥ 0.
-    terms : tuple of tuple of Term
-        Per coordinate, real terms in the variable t − τ.
-    steady : tuple of tuple of bool
-        Per term: whether its pole is a pole of the input (steady-state part) rather
-        than of the system alone (transient part).
-    impulses : tuple of tuple of sympy.Expr
-        Per coordinate, coefficients c_j of DiracDelta(t − τ, j) in x: only an impulsive
-        input on a massless node puts them there. Empty when there are none.
-    numerators, denominator : sympy.Poly
-        The piece's transform X_τ(λ) = numerators/denominator (forced scenes).
-    """
-
-    delay: sp.Expr
-    terms: tuple[tuple[Term, ...], ...]
-    steady: tuple[tuple[bool, ...], ...]
-    impulses: tuple[tuple[sp.Expr, ...], ...] = ()
-    numerators: tuple[sp.Poly, ...] = ()
-    denominator: sp.Poly | None = None
-
-    def expr(self, row: int, part: str = "all") -> sp.Expr:
-        """Coordinate ``row`` of this piece in :data:`t` (Heaviside-switched if τ > 0)."""
-        chosen = [term for term, steady in zip(self.terms[row], self.steady[row])
-                  if part == "all" or steady == (part == "steady")]
-        shifted = t - self.delay
-        deltas = sp.Add(*(c * (sp.DiracDelta(shifted) if j == 0 else sp.DiracDelta(shifted, j))
-                          for j, c in enumerate(self.impulses[row] if self.impulses else ())
-                          if c != 0)) if part != "steady" else sp.S.Zero
-        if self.delay == 0:
-            return terms_expr(chosen, t) + deltas
-        body = terms_expr(chosen, shifted)
-        return (sp.Heaviside(shifted) * body if body != 0 else sp.S.Zero) + deltas
+_TINY = float(np.finfo(float).smallest_subnormal)
+_EPS = float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True)
 class Verification:
-    """Outcome of :meth:`Solution.verify`: residuals relative to the solution's size."""
+    """Outcome of :meth:`Solution.verify`: residuals relative to the solution's size.
+
+    Attributes
+    ----------
+    ode_residual : float
+        max |M x'' + C x' + K x − f| over the sample times, relative to the size of the
+        terms.
+    initial_residual : float
+        The mismatch of the initial data (or of the jump conditions at t = 0 for massless
+        nodes), relative to the data's size.
+    tolerance : float
+        What the route checks against.
+    """
 
     ode_residual: float
     initial_residual: float
@@ -109,177 +106,341 @@ class Verification:
         return self.ok
 
 
-@dataclass(frozen=True, eq=False)
-class Solution:
-    """Exact motion x(t) of a scene, in real damped sine/cosine form.
+def _check_order(derivative: object) -> int:
+    if isinstance(derivative, bool) or not isinstance(derivative, (int, np.integer)) \
+            or not 0 <= int(derivative) <= 2:
+        raise ValueError(f"derivative must be 0, 1 or 2, got {derivative!r}")
+    return int(derivative)
 
-    Build it with :func:`solve`. ``terms[i]`` holds the structured real terms of
-    coordinate i; :attr:`x` is the same as a SymPy column matrix in :data:`t`.
+
+class Solution(ABC):
+    """Motion x(t) of a scene: the interface every route honours.
+
+    Build it with :func:`laplace_springs.solve`. Subclasses: :class:`ExactSolution`,
+    :class:`ModalSolution`, :class:`CertifiedSolution`.
+
+    Attributes
+    ----------
+    scene : Scene
+    reason : str
+        Why this route was taken.
+    target : float
+        The accuracy :meth:`evaluate` aims at (see :mod:`laplace_springs.policy`).
     """
 
-    scene: Scene
-    resolvent: Resolvent
-    terms: tuple[tuple[Term, ...], ...]
-    pieces: tuple[Piece, ...] = ()
+    #: The route: "exact", "modal" or "certified".
+    method: ClassVar[str] = ""
 
-    def __post_init__(self) -> None:
-        if not self.pieces:  # a free motion: one piece, nothing steady
-            flags = tuple((False,) * len(row) for row in self.terms)
-            object.__setattr__(self, "pieces", (Piece(sp.S.Zero, self.terms, flags),))
+    def __init__(self, scene: Scene, *, reason: str, target: float | None = None) -> None:
+        self.scene = scene
+        self.reason = reason
+        self.target = check_target(target)
+
+    # -- the contract -----------------------------------------------------------------
+    @property
+    @abstractmethod
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t) as a SymPy column matrix in :data:`laplace_springs.t`."""
+
+    @property
+    @abstractmethod
+    def escalation(self) -> str | None:
+        """Where times whose float64 bound misses the target go: "mp", "certified" or None."""
+
+    @property
+    @abstractmethod
+    def poles(self) -> np.ndarray:
+        """The poles λ of the motion (roots of Δ that occur), complex float64."""
+
+    def evaluate(self, times: Any, *, dps: int | None = None, return_error: bool = False,
+                 target: float | None = None, derivative: int = 0) -> Any:
+        """x(t) (or a derivative) at the given times.
+
+        Parameters
+        ----------
+        times : array_like
+            Times t ≥ 0 (a scalar is one time). A float is the number it holds (0.1 is
+            0.1000000000000000055…); a string such as ``"0.1"``, a Fraction or a SymPy
+            rational is used exactly.
+        dps : int, optional
+            Decimal digits. Without it the result is float64; with it, an object array of
+            mpmath numbers good to ``dps`` digits of max(‖x(t)‖∞, S₀).
+        return_error : bool
+            Also return bounds on the error of every entry (float64 without ``dps``,
+            mpmath numbers with it).
+        target : float, optional
+            Relative accuracy for float64 values (default: the solution's ``target``,
+            :data:`laplace_springs.policy.TARGET`). Times whose bound misses it are
+            recomputed by the escalation route.
+        derivative : {0, 1, 2}
+            Evaluate x, x' or x''.
+
+        Returns
+        -------
+        numpy.ndarray, or (numpy.ndarray, numpy.ndarray)
+            Shape (n, len(times)).
+
+        Raises
+        ------
+        ValueError
+            For NaN, infinite or negative times, a bad ``dps``, ``target`` or
+            ``derivative``.
+        SceneError
+            When the scene has symbols (give them values first).
+        OverflowError
+            When a value exceeds the float64 range (use ``dps``).
+
+        Notes
+        -----
+        Every value satisfies the contract of :mod:`laplace_springs.policy`: its error is
+        within ``target``·max(‖x(t)‖∞, S₀), or the returned bound says how large it may be.
+        The decision to escalate a time looks at that time alone, so a value does not
+        depend on the other times in the call.
+        """
+        self._require_numbers()
+        T = as_times(times)
+        order = _check_order(derivative)
+        if dps is not None:
+            values, bounds = self._digits(T, order, check_dps(dps))
+            return (values, bounds) if return_error else values
+        goal = check_target(self.target if target is None else target)
+        values, bounds = self._float(T, order)
+        mask = escalate_columns(values, bounds, self._floor(order), goal)
+        if mask.any() and self.escalation is not None:
+            columns = np.flatnonzero(mask)
+            better, better_bounds = self._escalate(T.subset(columns), order, goal)
+            values[:, columns], bounds[:, columns] = better, better_bounds
+        _check_float_result(values, bounds, T)
+        bounds = bounds + _TINY
+        return (values, bounds) if return_error else values
+
+    def verify(self, *, samples: Sequence[Any] = DEFAULT_SAMPLES,
+               tolerance: float | None = None) -> Verification:
+        """Check that the motion satisfies the equations and the initial data.
+
+        x, x' and x'' are evaluated at t = 0 and the sample times (float64, every value
+        within its bound); the residual M x'' + C x' + K x − f is taken relative to
+        max(|M||x''| + |C||x'| + |K||x| + |f|) and the initial mismatch relative to the
+        data. The velocities of massless nodes are not compared with v0: their constraint
+        sets them. :class:`ExactSolution` checks its closed form symbolically instead.
+
+        Returns
+        -------
+        Verification
+            Truthy when both residuals are within ``tolerance`` (default 1e-9).
+        """
+        tolerance = 1e-9 if tolerance is None else float(tolerance)
+        M, C, K, x0, v0 = scene_arrays(self.scene)
+        times = np.array([0.0, *(float(sp.Rational(str(s))) for s in samples)])
+        x, v, a = (self.evaluate(times, derivative=order) for order in range(3))
+        residual = np.max(np.abs(M @ a + C @ v + K @ x))
+        size = np.max(np.abs(M) @ np.abs(a) + np.abs(C) @ np.abs(v) + np.abs(K) @ np.abs(x))
+        massive = [i for i in range(self.scene.n) if i not in massless_nodes(self.scene)]
+        start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[massive, 0] - v0[massive]])))
+        data = np.max(np.abs(np.concatenate([x0, v0])))
+        return Verification(float(residual / size) if size else float(residual),
+                            float(start / data) if data else float(start), tolerance)
+
+    def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
+              standalone: bool = False, markdown: bool = False) -> str:
+        """x(t) in LaTeX (see :meth:`ExactSolution.latex`); Float coefficients for large scenes."""
+        exact = self._exact_solution
+        if exact is not None:
+            return exact.latex(form=form, resolvent=resolvent, sylvester=sylvester,
+                               standalone=standalone, markdown=markdown)
+        return matrix_latex(self.scene, self.x, standalone=standalone, markdown=markdown)
+
+    def _repr_latex_(self) -> str:
+        return "$$" + self.latex() + "$$"
+
+    def __repr__(self) -> str:
+        poles = self.poles
+        slowest = float(-poles.real.max()) if len(poles) else 0.0
+        return (f"<{type(self).__name__} of {self.scene!r}: {len(poles)} poles, slowest decay "
+                f"rate {slowest:.3g}; method={self.method!r}: {self.reason}>")
+
+    # -- plots (need matplotlib) --------------------------------------------------------
+    def plot(self, ax: Any = None, **kw: Any) -> Any:
+        """The seed's "Mass Position vs. Time" plot; see :func:`laplace_springs.output.plots.plot_motion`."""
+        return plot_motion(self, ax, **kw)
+
+    def plot_phase(self, ax: Any = None, **kw: Any) -> Any:
+        """Phase portraits x_i' against x_i; see :func:`laplace_springs.output.plots.plot_phase`."""
+        return plot_phase(self, ax, **kw)
+
+    def plot_energy(self, ax: Any = None, **kw: Any) -> Any:
+        """Kinetic, potential, dissipated energy; see :func:`laplace_springs.output.plots.plot_energy`."""
+        return plot_energy(self, ax, **kw)
+
+    # -- the hooks each route implements ------------------------------------------------
+    @abstractmethod
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        """float64 values and error bounds (inf where unreliable), shape (n, len(times))."""
+
+    @abstractmethod
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        """float64 values and bounds from the escalation route, for the given times."""
+
+    @abstractmethod
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        """mpmath values to ``dps`` digits and their bounds (object arrays)."""
+
+    @property
+    @abstractmethod
+    def _spectral_radius(self) -> float:
+        """max |λ| over the poles."""
 
     @cached_property
-    def x(self) -> sp.ImmutableMatrix:
-        """x(t) as a SymPy column matrix in the symbol :data:`laplace_springs.t`.
+    def _exact_solution(self) -> ExactSolution | None:
+        """The exact solution of the scene, where it is affordable (None otherwise)."""
+        if self.scene.n > EXACT_FORM_MAX_COORDINATES:
+            return None
+        return ExactSolution(exact_motion(self.scene), reason="exact form of a " + self.method
+                             + " solution", target=self.target)
 
-        A response to an input delayed by τ carries the factor Heaviside(t − τ); nothing
-        else does (the whole solution holds for t ≥ 0).
-        """
-        return self._part("all")
+    # -- shared helpers -----------------------------------------------------------------
+    def _floor(self, order: int) -> float:
+        """S₀·ρ^order: the contract's floor for the order-th derivative."""
+        return self._base_floor * self._spectral_radius**order
+
+    @cached_property
+    def _base_floor(self) -> float:
+        s = self.scene
+        x0 = max((abs(float(v)) for v in s.x0), default=0.0)
+        v0 = max((abs(float(v)) for i, v in enumerate(s.v0) if i not in massless_nodes(s)),
+                 default=0.0)
+        return reference_scale(x0, v0, self._spectral_radius)
+
+    def _require_numbers(self) -> None:
+        if self.scene.free_symbols:
+            names = ", ".join(sorted(str(v) for v in self.scene.free_symbols))
+            raise SceneError(f"evaluate needs numbers, but the scene has the parameters {names}; "
+                             "build the scene with values for them")
+
+
+def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times) -> None:
+    """Raise rather than return a value that is not finite or a bound that is not."""
+    with np.errstate(invalid="ignore"):
+        huge = ~np.isfinite(values) | (np.abs(values) > np.finfo(float).max / 4)
+    if huge.any():
+        column = int(np.flatnonzero(huge.any(axis=0))[0])
+        raise OverflowError(f"x(t) at t = {times.hi[column]!r} is beyond the float64 range "
+                            "(or not finite); evaluate(..., dps=30) gives it")
+    if not np.all(np.isfinite(bounds)):
+        column = int(np.flatnonzero(~np.all(np.isfinite(bounds), axis=0))[0])
+        raise ArithmeticError(f"no route could bound the error of x(t) at t = {times.hi[column]!r}; "
+                              "evaluate(..., dps=30) computes it to 30 digits")
+
+
+# ---------------------------------------------------------------------------- exact route
+
+
+class ExactSolution(Solution):
+    """Exact motion x(t) of a scene, in real damped sine/cosine form.
+
+    Holds an :class:`~laplace_springs.exact.assembly.ExactMotion`; :attr:`x`, the pieces,
+    the seed's g-basis and the initial jump are exact. Float64 evaluation sums the terms
+    as a stable pole sum (:mod:`laplace_springs.numeric.terms`); times whose bound misses
+    the target are recomputed with mpmath ("mp").
+    """
+
+    method = "exact"
+
+    def __init__(self, motion: ExactMotion, *, reason: str, target: float | None = None) -> None:
+        super().__init__(motion.scene, reason=reason, target=target)
+        self.motion = motion
+
+    @property
+    def escalation(self) -> str:
+        return "mp"
+
+    # -- exact data -------------------------------------------------------------------
+    @property
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t) as a SymPy column matrix; a response to an input delayed by τ carries
+        Heaviside(t − τ), nothing else does (the solution holds for t ≥ 0)."""
+        return self.motion.x
+
+    @property
+    def resolvent(self) -> Resolvent:
+        """Δ(λ), adj(λ) and X(λ) (see :mod:`laplace_springs.exact.resolvent`)."""
+        return self.motion.resolvent
+
+    @property
+    def terms(self) -> tuple[tuple[Term, ...], ...]:
+        """The real terms of each coordinate (of the piece switched on at t = 0)."""
+        return self.motion.terms
+
+    @property
+    def pieces(self) -> tuple[Piece, ...]:
+        """The motion's pieces, one per delay of the inputs (delay 0 first)."""
+        return self.motion.pieces
 
     @cached_property
     def steady_state(self) -> sp.ImmutableMatrix:
         """The part of x(t) with the input's poles: what the forcing sustains.
 
-        For a damped system driven by a harmonic force this is the steady oscillation
-        left once the transient has died out. At exact resonance of an undamped
-        system the secular t·sin term belongs here (its pole is the input's).
-        Zero for a free motion.
+        Zero for a free motion; at exact resonance of an undamped system the secular
+        t·sin term belongs here (its pole is the input's).
         """
-        return self._part("steady")
+        return self.motion.part("steady")
 
     @cached_property
     def transient(self) -> sp.ImmutableMatrix:
         """The part of x(t) with the system's own poles only: x = transient + steady_state."""
-        return self._part("transient")
-
-    def _part(self, part: str) -> sp.ImmutableMatrix:
-        return sp.ImmutableMatrix([sp.Add(*(piece.expr(i, part) for piece in self.pieces))
-                                   for i in range(self.scene.n)])
-
-    #: Which route produced the solution (a :class:`NumericSolution` says "numeric").
-    method = "exact"
+        return self.motion.part("transient")
 
     @property
-    def reason(self) -> str:
-        """Why this route: the exact one is the default wherever it is affordable."""
-        return "exact partial fractions (the default where affordable)"
+    def initial_jump(self) -> InitialJump:
+        """x(0⁺), x'(0⁺) and what jumped at t = 0 (see :attr:`ExactMotion.initial_jump`)."""
+        return self.motion.initial_jump
 
-    @cached_property
-    def modes(self):
-        """The scene's modes (see :func:`laplace_springs.modes.modes`)."""
-        from .modes import modes
-
-        return modes(self.scene)
-
-    @cached_property
-    def _numeric(self) -> tuple[NumericTerms, ...]:
-        return tuple(numeric_terms(piece.terms, dps=40) for piece in self.pieces)
-
-    def evaluate(self, times, *, dps: int | None = None, return_error: bool = False):
-        """Evaluate x(t) at the given times.
-
-        Parameters
-        ----------
-        times : array_like
-            Times t ≥ 0 (a scalar is treated as one time).
-        dps : int, optional
-            Decimal digits. Without it the result is float64; with it, an object array
-            of mpmath numbers accurate to about that many digits.
-        return_error : bool, optional
-            Also return an array of estimated absolute error bounds (float64 only).
-
-        Returns
-        -------
-        numpy.ndarray, or (numpy.ndarray, numpy.ndarray)
-            Shape (n, len(times)); with ``return_error`` the error bounds as well.
-
-        Notes
-        -----
-        Float64 evaluation is stable by construction (near-equal poles are summed in a
-        divided-difference basis, phases carried in double-double) and points whose
-        error estimate is still too large are recomputed with mpmath inside the call;
-        see :mod:`laplace_springs.evaluate`.
-        """
-        if dps is not None:
-            if return_error:
-                raise ValueError("return_error is available for float64 evaluation only")
-            return self._evaluate_mp(list(np.atleast_1d(times)), dps)
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        n = self.scene.n
-        values, error = np.zeros((n, times.size)), np.zeros((n, times.size))
-        for piece, data in zip(self.pieces, self._numeric):
-            tau = float(piece.delay)
-            on = times >= tau if tau else np.ones(times.size, dtype=bool)
-            if not on.any():
-                continue
-            part, bound = evaluate_float(data, n, times[on], return_error=True,
-                                         delay=piece.delay if tau else None)
-            values[:, on] += part
-            error[:, on] += bound
-        return (values, error) if return_error else values
-
-    def _evaluate_mp(self, times: list, dps: int) -> np.ndarray:
-        n = self.scene.n
-        out = np.empty((n, len(times)), dtype=object)
-        with mpmath.workdps(dps + 20):
-            ts = [_mp_time(v) for v in times]
-            out[:] = mpmath.mpf(0)
-        for piece in self.pieces:
-            with mpmath.workdps(dps + 20):
-                tau = mpmath.mpf(sp.Float(piece.delay, dps + 20)._mpf_) if piece.delay else 0
-                on = [col for col, tv in enumerate(ts) if tv >= tau]
-                shifted = [ts[col] - tau for col in on]
-            if not on:
-                continue
-            data = numeric_terms(piece.terms, dps=dps + 15)
-            part = evaluate_mp(data, n, shifted, dps)
-            with mpmath.workdps(dps):
-                for k, col in enumerate(on):
-                    for i in range(n):
-                        out[i, col] = out[i, col] + part[i, k]
-        return out
-
-    @cached_property
+    @property
     def g_denominator(self) -> sp.Poly:
         """The Δ(λ) of the g-basis: integer, content 1 (as the seed prints it)."""
-        return self.resolvent.integer_characteristic_polynomial
+        return self.motion.g_denominator
 
-    @cached_property
+    @property
     def g_coefficients(self) -> sp.ImmutableMatrix:
-        """c_ik with x_i(t) = Σ_k c_ik g_k(t), k = 0..2n-1 (the seed's K_j and N_j).
+        """c_ik with x_i(t) = Σ_k c_ik g_k(t) (the seed's K_j and N_j)."""
+        return self.motion.g_coefficients
 
-        Columns k ≥ deg Δ are zero (deg Δ < 2n when M is singular: massless nodes).
-        """
-        R = self.resolvent
-        scale = sp.cancel(self.g_denominator.as_expr() / R.determinant.as_expr())
-        n2 = 2 * self.scene.n
-        rows = []
-        for N in R.numerators:
-            coeffs = list(reversed(N.all_coeffs())) if not N.is_zero else []
-            coeffs += [0] * (n2 - len(coeffs))
-            rows.append([sp.factor_terms(sp.expand(scale * c)) for c in coeffs[:n2]])
-        return sp.ImmutableMatrix(rows)
-
-    @cached_property
+    @property
     def g_indices(self) -> tuple[int, ...]:
-        """The k whose g_k occurs in some coordinate (nonzero column of c_ik)."""
-        C = self.g_coefficients
-        return tuple(k for k in range(C.shape[1]) if any(C[i, k] != 0 for i in range(C.shape[0])))
+        """The k whose g_k occurs in some coordinate."""
+        return self.motion.g_indices
 
-    @cached_property
+    @property
     def g_basis(self) -> dict[int, sp.Expr]:
         """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
-        D = self.g_denominator
-        monomials = [sp.Poly(lam**k, lam, domain=D.domain) for k in self.g_indices]
-        return {k: terms_expr(list(row), t)
-                for k, row in zip(self.g_indices, _terms_of(decompose(monomials, D)))}
+        return self.motion.g_basis
 
     def g_form(self) -> sp.ImmutableMatrix:
         """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
-        C = self.g_coefficients
-        g = {k: sp.Function(f"g_{k}")(t) for k in self.g_indices}
-        return sp.ImmutableMatrix([sp.Add(*(C[i, k] * g[k] for k in self.g_indices))
-                                   for i in range(C.shape[0])])
+        return self.motion.g_form()
+
+    @property
+    def definitions(self) -> dict:
+        """Named quantity → definition for the names in :attr:`x` (empty for numeric scenes)."""
+        return self.motion.definitions
+
+    def substituted(self) -> sp.ImmutableMatrix:
+        """:attr:`x` with every named quantity replaced by its definition."""
+        return self.motion.substituted()
+
+    @property
+    def poles(self) -> np.ndarray:
+        nodes = [complex(z) for z in self._numeric(0)[0].poles.nodes] if self.pieces else []
+        return np.array(nodes, dtype=complex)
+
+    @property
+    def _spectral_radius(self) -> float:
+        return max((abs(complex(z)) for data in self._numeric(0) for z in data.poles.nodes),
+                   default=0.0)
+
+    @cached_property
+    def _exact_solution(self) -> ExactSolution:
+        return self
 
     def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
               standalone: bool = False, markdown: bool = False) -> str:
@@ -301,299 +462,291 @@ class Solution:
         Returns
         -------
         str
-            By default one ``aligned`` block per part (x(t) and its "where" list first).
-            See :mod:`laplace_springs.latex_export` for the conventions (no imaginary
-            unit, algebraic numbers as named constants, θ(t − τ) for switched inputs).
+            See :mod:`laplace_springs.output.latex` for the conventions (no imaginary unit,
+            algebraic numbers as named constants, θ(t − τ) for switched inputs).
         """
-        from .latex_export import solution_latex
-
         output = "document" if standalone else "markdown" if markdown else "fragment"
-        return solution_latex(self, form=form, resolvent=resolvent, sylvester=sylvester,
+        return solution_latex(self.motion, form=form, resolvent=resolvent, sylvester=sylvester,
                               output=output)
-
-    def _repr_latex_(self) -> str:
-        return "$$" + self.latex() + "$$"
 
     def __repr__(self) -> str:
         body = ", ".join(f"{name}(t) = {expr}" for name, expr in zip(self.scene.names, self.x))
-        return f"Solution({body})"
+        return f"ExactSolution({body})"
 
-    def verify(self, *, samples: Sequence = ("0.37", "1.3", "4.1"), dps: int = 40) -> Verification:
-        """Check at high precision that x satisfies the equations and initial data.
+    # -- evaluation ---------------------------------------------------------------------
+    def _numeric(self, order: int, dps: int = 40) -> tuple[NumericTerms, ...]:
+        key = (order, dps)
+        cache = self.__dict__.setdefault("_numeric_cache", {})
+        if key not in cache:
+            motion = self.motion
+            for _ in range(order):
+                motion = motion.derivative()
+            cache[key] = tuple(numeric_terms(piece.terms, dps=dps) for piece in motion.pieces)
+        return cache[key]
 
-        The exact expression :attr:`x` is differentiated symbolically and
-        M x'' + C x' + K x is evaluated at the sample times with ``dps`` digits
-        (algebraic numbers from certified root enclosures), also at t = 0⁺ where a
-        massless node's constraint must already hold. At the start the jump conditions
-        of :func:`laplace_springs.jumps.jump_residuals` are checked: M(x(0⁺) - x0) = 0 and
-        M(x'(0⁺) - v0) + C(x(0⁺) - x0) = 0 (plus impulse terms, if any), which for an
+    def _shifted(self, times: Times, delay: sp.Expr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Columns with t ≥ delay and t − delay there as a double-double."""
+        if delay == 0:
+            return np.arange(len(times)), times.hi, times.lo
+        with mpmath.workdps(40):
+            tau = mp_value(delay, 40)
+            tau_hi = float(tau)
+            tau_lo = float(tau - tau_hi)
+        on = np.flatnonzero((times.hi > tau_hi) | ((times.hi == tau_hi) & (times.lo >= tau_lo)))
+        hi, lo = two_diff(times.hi[on], tau_hi, tau_lo)
+        return on, hi, lo + times.lo[on]
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        n = self.scene.n
+        values, bounds = np.zeros((n, len(times))), np.zeros((n, len(times)))
+        for piece, data in zip(self.pieces, self._numeric(order)):
+            on, hi, lo = self._shifted(times, piece.delay)
+            if on.size:
+                part, bound = float_values(data, n, hi, lo)
+                values[:, on] += part
+                bounds[:, on] += bound
+        return values, bounds
+
+    def _mp(self, times: Times, order: int, digits: int, floor: float) -> tuple[list, list]:
+        """mpmath values and bounds (n lists of mpf) good to ``digits``."""
+        n = self.scene.n
+        work = digits + 20
+        with mpmath.workdps(work):
+            total = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
+            bounds = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
+            stamps = [times.mpf(j) for j in range(len(times))]
+        for piece, data in zip(self.pieces, self._numeric(order)):
+            with mpmath.workdps(work):
+                tau = mp_value(piece.delay, work) if piece.delay != 0 else mpmath.mpf(0)
+                on = [j for j, tv in enumerate(stamps) if tv >= tau]
+                shifted = [stamps[j] - tau for j in on]
+            if not on:
+                continue
+            part, bound, _ = mp_values(data, n, shifted, digits, [floor] * len(on))
+            with mpmath.workdps(work):
+                for k, j in enumerate(on):
+                    for i in range(n):
+                        total[i][j] += part[i][k]
+                        bounds[i][j] += bound[i][k]
+        return total, bounds
+
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        digits = max(ESCALATION_DIGITS, math.ceil(-math.log10(target)) + 5)
+        total, bounds = self._mp(times, order, digits, self._floor(order))
+        values = np.array([[float(v) for v in row] for row in total])
+        errors = np.array([[float(b) for b in row] for row in bounds])
+        return values, errors + np.abs(values) * _EPS
+
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        total, bounds = self._mp(times, order, dps + 2, self._floor(order))
+        values = np.empty((self.scene.n, len(times)), dtype=object)
+        errors = np.empty((self.scene.n, len(times)), dtype=object)
+        with mpmath.workdps(dps):
+            for i, row in enumerate(total):
+                for j, v in enumerate(row):
+                    values[i, j] = +v
+                    errors[i, j] = bounds[i][j] + abs(v) * mpmath.mpf(10) ** (-dps)
+        return values, errors
+
+    # -- verification -------------------------------------------------------------------
+    def verify(self, *, samples: Sequence[Any] = DEFAULT_SAMPLES,
+               tolerance: float | None = None) -> Verification:
+        """Check at high precision that :attr:`x` satisfies the equations and initial data.
+
+        The exact expression is differentiated symbolically and M x'' + C x' + K x − f is
+        evaluated at the sample times (also at t = 0⁺, where a massless node's constraint
+        must already hold) with enough digits for ``tolerance`` (default 1e-30, at 40
+        digits). At the start the jump conditions of
+        :func:`laplace_springs.exact.jumps.jump_residuals` are checked: M(x(0⁺) − x0) = 0
+        and M(x'(0⁺) − v0) + C(x(0⁺) − x0) = 0 (plus impulse terms), which for an
         invertible M is x(0) = x0, x'(0) = v0. Symbolic parameters are given fixed
-        generic values first (the residual is an identity in them). Residuals are
-        relative to the data's size.
-
-        Returns
-        -------
-        Verification
-            Truthy when both residuals are below 10^(10 - dps).
+        generic values first (the residual is an identity in them).
         """
+        tolerance = 1e-30 if tolerance is None else float(tolerance)
+        dps = max(40, math.ceil(-math.log10(max(tolerance, 1e-4000))) + 10)
         s = self.scene
         generic = generic_values(s.free_symbols)
         x = sp.Matrix(self.x)
-        v = x.diff(t)
-        force = sp.Matrix(s.forcing) if s.is_forced else sp.zeros(s.n, 1)
+        v = x.diff(TIME)
+        force = sp.Matrix(s.forcing) if s.forcing is not None and s.is_forced else sp.zeros(s.n, 1)
         force = force.replace(sp.Heaviside, lambda arg, *_: sp.Heaviside(arg, 1))  # t = 0⁺
-        residual = (s.M * v.diff(t) + s.C * v + s.K * x - force).xreplace(generic)
+        residual = (s.M * v.diff(TIME) + s.C * v + s.K * x - force).xreplace(generic)
         residual = residual.replace(sp.DiracDelta, lambda *args: sp.S.Zero)  # 0 off the delays
         jump = self.initial_jump
-        x, v = x.replace(sp.DiracDelta, lambda *a: sp.S.Zero), v.replace(sp.DiracDelta, lambda *a: sp.S.Zero)
-        start = jump_residuals(s, x.subs(t, 0) - s.x0, v.subs(t, 0) - s.v0,
-                               jump.impulses, load=self._impulsive_load())
+        x, v = (m.replace(sp.DiracDelta, lambda *a: sp.S.Zero) for m in (x, v))
+        start = jump_residuals(s, x.subs(TIME, 0) - s.x0, v.subs(TIME, 0) - s.v0,
+                               jump.impulses, load=self.motion.impulsive_load())
         start = [sp.sympify(e).xreplace(generic) for e in start]
         times = _sample_times(samples, [piece.delay for piece in self.pieces])
-        sizes = [*s.x0, *s.v0, *(f.subs(t, tv) for f in force.xreplace(generic) for tv in times)]
+        sizes = [*s.x0, *s.v0, *(f.subs(TIME, tv) for f in force.xreplace(generic) for tv in times)]
         scale = max(1.0, _size([e.replace(sp.DiracDelta, lambda *a: 0) for e in sizes], generic, 20))
-        ode = _size([e.subs(t, tv) for e in residual for tv in times], {}, dps)
-        return Verification(ode / scale, _size(start, generic, dps) / scale, 10.0 ** (10 - dps))
-
-    def _impulsive_load(self) -> sp.Matrix | None:
-        """J with J·δ(t) the impulses the forcing applies at t = 0 (None without)."""
-        s = self.scene
-        if not s.is_forced or not s.forcing.has(sp.DiracDelta):
-            return None
-        inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(s.forcing)]
-        return sp.Matrix([sp.limit(dict(T.parts).get(sp.S.Zero, 0), lam, sp.oo) for T in inputs])
-
-    @cached_property
-    def initial_jump(self) -> InitialJump:
-        """x(0⁺), x'(0⁺) and what jumped at t = 0 (nothing unless M is singular).
-
-        A massless node joined only by springs starts where its springs balance; one with
-        a dashpot keeps its position but takes the velocity its dashpot law sets. Masses
-        keep position and velocity. ``impulses`` lists δ^(k) terms of x at t = 0 (only
-        non-physical, indefinite data produce them). From X(λ) at λ = ∞, exactly.
-
-        Examples
-        --------
-        >>> from laplace_springs.scene import Scene
-        >>> scene = Scene.from_components(masses={"n": 0, "m": 1},
-        ...     springs={"k1": ("wall", "n", 3), "k2": ("n", "m", 2)}, x0=[1, 2], v0=[0, 1])
-        >>> jump = solve(scene).initial_jump
-        >>> jump.x_plus.T, jump.position.T, jump.velocity.T
-        (Matrix([[4/5, 2]]), Matrix([[-1/5, 0]]), Matrix([[2/5, 0]]))
-        """
-        first = self.pieces[0]
-        if first.denominator is None:
-            return initial_jump(self.resolvent)
-        return initial_jump(self.resolvent, list(first.numerators), first.denominator)
-
-    # -- plots (see laplace_springs.plotting; need matplotlib) ---------------
-    def plot(self, ax=None, **kw):
-        """The seed's "Mass Position vs. Time" plot; see :func:`laplace_springs.plotting.plot_motion`."""
-        from .plotting import plot_motion
-
-        return plot_motion(self, ax, **kw)
-
-    def plot_phase(self, ax=None, **kw):
-        """Phase portraits x_i' against x_i; see :func:`laplace_springs.plotting.plot_phase`."""
-        from .plotting import plot_phase
-
-        return plot_phase(self, ax, **kw)
-
-    def plot_energy(self, ax=None, **kw):
-        """Kinetic, potential, dissipated energy; see :func:`laplace_springs.plotting.plot_energy`."""
-        from .plotting import plot_energy
-
-        return plot_energy(self, ax, **kw)
-
-    # -- named quantities of symbolic scenes (see laplace_springs.symbolic_forms) --
-    @property
-    def definitions(self) -> dict:
-        """Named quantity → definition for the names in :attr:`x` (ω_j, γ_j, S_j, P_j).
-
-        Empty for numeric scenes. A definition may use names listed before it.
-
-        Examples
-        --------
-        >>> from laplace_springs.scene import Scene
-        >>> sol = solve(Scene.from_matrices(M=[["m"]], K=[["k"]], x0=[1], v0=[0]))
-        >>> sol.x[0], sol.definitions
-        (cos(t*omega_1), {omega_1: sqrt(k)/sqrt(m)})
-        """
-        from .symbolic_forms import definitions
-
-        return definitions(list(self.x))
-
-    def substituted(self) -> sp.ImmutableMatrix:
-        """:attr:`x` with every named quantity replaced by its definition in the parameters."""
-        from .symbolic_forms import expand_names
-
-        return sp.ImmutableMatrix(expand_names(self.x))
+        ode = _size([e.subs(TIME, tv) for e in residual for tv in times], {}, dps)
+        return Verification(ode / scale, _size(start, generic, dps) / scale, tolerance)
 
 
-def _sample_times(samples: Sequence, delays: Sequence[sp.Expr]) -> list[sp.Expr]:
+def _sample_times(samples: Sequence[Any], delays: Sequence[sp.Expr]) -> list[sp.Expr]:
     """t = 0 and the samples, moved off the switching times of delayed inputs."""
-    times = [sp.S.Zero]
+    times: list[sp.Expr] = [sp.S.Zero]
     for tv in samples:
-        value = sp.Rational(tv)
+        value = sp.Rational(str(tv))
         while any(value == d for d in delays):
             value += sp.Rational(1, 7)
         times.append(value)
     return times
 
 
-def generic_values(symbols) -> dict:
-    """Fixed, unremarkable positive rationals for symbolic parameters."""
-    return {sym: sp.Rational(97 + 13 * i, 89 + 7 * i)
-            for i, sym in enumerate(sorted(symbols, key=lambda v: v.name))}
-
-
-def _size(exprs, values: dict, dps: int) -> float:
-    """max |e| over the expressions, at ``dps`` digits (complex values allowed).
-
-    Real expressions go through :func:`laplace_springs.mp_expr.mp_value` (guard digits
-    doubled until two evaluations agree, so cancelling coefficients cannot fool it);
-    anything it does not take falls back to :func:`numeric_value`.
-    """
+def _size(exprs: Sequence[Any], values: dict, dps: int) -> float:
+    """max |e| over the expressions, at ``dps`` digits (complex values allowed)."""
     caches: dict = {}
-    return max((_magnitude(sp.sympify(e).xreplace(values), dps, caches) for e in exprs),
-               default=0.0)
+    out = 0.0
+    for e in exprs:
+        expr = sp.sympify(e).xreplace(values)
+        try:
+            size = float(abs(mp_value(expr, dps, caches)))
+        except (TypeError, ValueError):
+            size = float(abs(numeric_value(expr, dps)))
+        out = max(out, size)
+    return out
 
 
-def _magnitude(expr: sp.Expr, dps: int, caches: dict) -> float:
-    try:
-        return float(abs(mp_value(expr, dps, caches)))
-    except Exception:  # complex or unsupported pieces: SymPy's evaluation
-        return float(abs(numeric_value(expr, dps)))
+# ---------------------------------------------------------------------------- modal route
 
 
-def _latex_name(name: str) -> str:
-    head = name.rstrip("0123456789")
-    tail = name[len(head):]
-    return f"{head}_{{{tail}}}" if tail and head else name
+class ModalSolution(Solution):
+    """Motion x(t) of a numeric scene from a conditioned float64 eigen-decomposition.
 
-
-def solve(scene: Scene, *, method: str = "auto"):
-    """Solve M x'' + C x' + K x = f(t) with the scene's initial data.
-
-    Parameters
-    ----------
-    scene : Scene
-        The mechanical system.
-    method : {"auto", "exact", "numeric"}
-        "exact" inverts the Laplace transform by exact partial fractions. "numeric"
-        uses the conditioned eigen-decomposition of the linearised quadratic eigenvalue
-        problem (:mod:`laplace_springs.numeric_route`; unforced numeric scenes with
-        invertible M). "auto" is exact unless the scene is numeric, unforced, has more
-        than :data:`EXACT_LIMIT` coordinates and invertible M. When the float64
-        route's own error estimate exceeds 1e-12 (stiff, widely scaled scenes), the
-        modes are recomputed in ball arithmetic (:mod:`laplace_springs.precise_route`)
-        if the eigenvalues are simple; failing that, the exact route is taken up to
-        twice :data:`EXACT_LIMIT` coordinates and the float64 route beyond. The
-        result's ``method`` and ``reason`` say which route was taken.
-
-    Returns
-    -------
-    Solution or NumericSolution
-        Closed form :attr:`Solution.x`, evaluation, LaTeX, g-basis and verification;
-        the numeric route's result has ``x`` (Float coefficients), ``evaluate`` and
-        ``verify``.
-
-    Examples
-    --------
-    A critically damped mass, x'' + 2x' + x = 0, x(0) = 1:
-
-    >>> from laplace_springs.scene import Scene
-    >>> sol = solve(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0]))
-    >>> sol.x[0]
-    t*exp(-t) + exp(-t)
-    >>> sol.evaluate([0.0, 1.0]).round(12)
-    array([[1.        , 0.73575888]])
+    Holds a :class:`~laplace_springs.numeric.modal.ModalMotion`. Times whose float64 bound
+    misses the target go to the certified route where the scene allows it (rational
+    entries, 2n ≤ :data:`~laplace_springs.policy.CERTIFIED_MAX_ORDER`), else to the exact
+    route's mpmath evaluation (up to
+    :data:`~laplace_springs.policy.EXACT_FALLBACK_MAX_COORDINATES` coordinates).
     """
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
-    if method == "numeric" or (method == "auto" and _numeric_is_better(scene)):
-        from .numeric_route import solve_numeric
 
-        if scene.is_forced:
-            raise SceneError("the numeric route does not take forcing yet; use method='exact'")
-        reason = ("method='numeric' was requested" if method == "numeric" else
-                  f"auto: {scene.n} coordinates > EXACT_LIMIT = {EXACT_LIMIT} "
-                  f"(Δ of degree {2 * scene.n}); the exact route would take seconds")
-        numeric = solve_numeric(scene, reason=reason)
-        if method == "numeric" or _well_conditioned(numeric):
-            return numeric
-        better = _precise_or_none(scene, reason)
-        if better is not None or scene.n > 2 * EXACT_LIMIT:
-            return better if better is not None else numeric
-    R = resolvent(scene)
-    if not scene.is_forced:
-        return Solution(scene, R, _terms_of(decompose(list(R.numerators), R.determinant)))
-    pieces = _forced_pieces(scene, R)
-    return Solution(scene, R, pieces[0].terms, pieces)
+    method = "modal"
+
+    def __init__(self, scene: Scene, motion: ModalMotion, *, reason: str,
+                 target: float | None = None, certified: CertifiedPoles | None = None) -> None:
+        super().__init__(scene, reason=reason, target=target)
+        self.motion = motion
+        self._given_certified = certified
+
+    @property
+    def modes(self) -> Any:
+        """The float64 modes and blocks (:class:`~laplace_springs.numeric.modal.Modes`)."""
+        return self.motion.modes
+
+    @property
+    def poles(self) -> np.ndarray:
+        return self.motion.poles()
+
+    @property
+    def _spectral_radius(self) -> float:
+        return float(np.max(np.abs(self.poles), initial=0.0))
+
+    @cached_property
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t): the exact closed form up to EXACT_FORM_MAX_COORDINATES coordinates (built on
+        first use), else terms t^p e^{αt}(a cos βt + b sin βt) with Float coefficients."""
+        exact = self._exact_solution
+        return exact.x if exact is not None else self.motion.closed_form()
+
+    @cached_property
+    def _certified(self) -> CertifiedPoles | None:
+        if self._given_certified is not None:
+            return self._given_certified
+        if 2 * self.scene.n > CERTIFIED_MAX_ORDER:
+            return None
+        return certified_poles(self.scene)
+
+    @cached_property
+    def _exact_fallback(self) -> ExactSolution | None:
+        if self.scene.n > EXACT_FALLBACK_MAX_COORDINATES:
+            return None
+        return self._exact_solution
+
+    @property
+    def escalation(self) -> str | None:
+        if self._certified is not None:
+            return "certified"
+        return "mp" if self.scene.n <= EXACT_FALLBACK_MAX_COORDINATES else None
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        values = self.motion.values(times.hi, order)
+        bounds = self.motion.bound(times.hi, order)
+        if times.lo.any():  # a decimal time: the float evaluated at hi, off by lo·x'
+            slope = np.abs(self.motion.values(times.hi, order + 1))
+            bounds = bounds + 2 * np.abs(times.lo)[None, :] * slope
+        return values, bounds
+
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        if self._certified is not None:
+            return certified_values(self._certified, times, order, target, self._floor(order))
+        exact = self._exact_fallback
+        if exact is not None:
+            return exact._escalate(times, order, target)
+        return self._float(times, order)
+
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        if self._certified is not None:
+            return certified_digits(self._certified, times, order, dps, self._floor(order))
+        exact = self._exact_fallback
+        if exact is not None:
+            return exact._digits(times, order, dps)
+        raise ValueError("evaluate(..., dps=) needs the certified or the exact route, and this "
+                         f"scene suits neither ({self.scene.n} coordinates, entries "
+                         "not all rational or too large for them)")
 
 
-def _precise_or_none(scene: Scene, reason: str):
-    """The ball-arithmetic modal route (:mod:`~laplace_springs.precise_route`), if it applies."""
-    from .precise_route import solve_precise
-
-    return solve_precise(scene, reason=reason + "; float64 eigenvectors were not accurate enough "
-                         "(error estimate above 1e-12), so the modes were computed in ball arithmetic")
+# ---------------------------------------------------------------------------- certified route
 
 
-def _well_conditioned(numeric) -> bool:
-    """Whether the numeric route's own error estimate at t = 0 and 1 is below 1e-12."""
-    values, error = numeric.modes.values_and_errors(np.array([0.0, 1.0]))  # float64, no escalation
-    return float(error.max()) <= 1e-12 * max(float(np.abs(values).max()), 1e-300)
+class CertifiedSolution(Solution):
+    """Motion x(t) from certified poles and residues (ball arithmetic).
 
-
-def _numeric_is_better(scene: Scene) -> bool:
-    """Whether "auto" takes the numeric route (see :func:`solve`)."""
-    return (scene.n > EXACT_LIMIT and not scene.is_forced and not scene.free_symbols
-            and scene.M.det() != 0)
-
-
-def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
-    """Pieces of X(λ) = adj·[r(λ) + F(λ)]/Δ: one per delay of the inputs (delay 0 first).
-
-    For each delay τ the inputs' rational parts R_τj = P_j/Q_j are put over their common
-    denominator D_τ; the piece is adj·(D_τ F_τ + [τ = 0] D_τ r)/(Δ D_τ), inverted by the
-    same partial-fraction engine. A pole group whose factor divides D_τ is steady state.
+    Holds :class:`~laplace_springs.numeric.certified.CertifiedPoles`. Float64 values come
+    from the stable pole-sum kernels; times whose bound misses the target are evaluated
+    in ball arithmetic, whose radius certifies the bound.
     """
-    inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
-    delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
-    with naming_scope():
-        return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
 
+    method = "certified"
 
-def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
-    """The piece of the response switched on at ``tau``."""
-    fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
-    D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
-    load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
-    numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
-                  for i in range(scene.n)]
-    if tau == 0:
-        numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
-    denominator = R.determinant * D
-    rows, flags, impulses = [], [], []
-    for pf in decompose(numerators, denominator):
-        pairs = [(term, _divides(group.factor, D))
-                 for group in pf.groups for term in group_terms(group)]
-        rows.append(tuple(term for term, _ in pairs))
-        flags.append(tuple(steady for _, steady in pairs))
-        to_sympy = pf.polynomial.domain.to_sympy
-        impulses.append(tuple(to_sympy(c) for c in reversed(pf.polynomial.all_coeffs()))
-                        if not pf.polynomial.is_zero else ())
-    return Piece(tau, tuple(rows), tuple(flags), tuple(impulses) if any(impulses) else (),
-                 tuple(numerators), denominator)
+    def __init__(self, scene: Scene, poles: CertifiedPoles, *, reason: str,
+                 target: float | None = None) -> None:
+        super().__init__(scene, reason=reason, target=target)
+        self.certified = poles
 
+    @property
+    def escalation(self) -> str:
+        return "certified"
 
-def _poly(expr) -> sp.Poly:
-    return sp.Poly(sp.expand(expr), lam)
+    @cached_property
+    def poles(self) -> np.ndarray:
+        nodes = self._fast(0).poles.nodes
+        return np.array([complex(z) for z in nodes], dtype=complex)
 
+    @property
+    def _spectral_radius(self) -> float:
+        return self.certified.spectral_radius()
 
-def _divides(factor: sp.Poly, D: sp.Poly) -> bool:
-    """Whether the irreducible ``factor`` divides ``D`` (over a common field)."""
-    if D.degree() <= 0:
-        return False
-    return sp.rem(D.as_expr(), factor.as_expr(), lam) == 0
+    @cached_property
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t): the exact closed form up to EXACT_FORM_MAX_COORDINATES coordinates (built on
+        first use), else real terms with Float coefficients from the certified poles."""
+        exact = self._exact_solution
+        return exact.x if exact is not None else sp.ImmutableMatrix(closed_form(self.certified))
+
+    def _fast(self, order: int) -> NumericTerms:
+        cache = self.__dict__.setdefault("_fast_cache", {})
+        if order not in cache:
+            form = self.certified.pole_sum(40)
+            cache[order] = NumericTerms((), derivative_sum(form, order) if order else form, 40)
+        return cache[order]
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        return float_values(self._fast(order), self.scene.n, times.hi, times.lo)
+
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        return certified_values(self.certified, times, order, target, self._floor(order))
+
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        return certified_digits(self.certified, times, order, dps, self._floor(order))

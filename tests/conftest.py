@@ -1,4 +1,4 @@
-"""Shared independent references for the tests (see laplace_springs.reference)."""
+"""Shared independent references for the tests (see laplace_springs.bench.reference)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("explore", derandomize=False, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-from laplace_springs.reference import reference_motion, relative_error
+from laplace_springs.bench.reference import reference_motion, relative_error
 
 __all__ = ["reference_motion", "relative_error"]
 

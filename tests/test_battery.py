@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import laplace_springs as ls
-from laplace_springs.battery import KINDS, BatteryCase, battery_cases
-from laplace_springs.reference import reference_motion_arb, relative_error
+from laplace_springs.bench.battery import KINDS, BatteryCase, battery_cases
+from laplace_springs.bench.reference import reference_motion_arb, relative_error
 
 CASES = {case.name: case for case in battery_cases()}
 

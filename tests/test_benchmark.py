@@ -16,12 +16,12 @@ import pytest
 import sympy
 
 import laplace_springs as ls
-from laplace_springs.bench_methods import TimeLimitExceeded
-from laplace_springs.benchmark import (BenchCase, BenchSettings, Record, more_accurate,
+from laplace_springs.bench.methods import TimeLimitExceeded
+from laplace_springs.bench.harness import (BenchCase, BenchSettings, Record, more_accurate,
                                        pareto_verdict, run_benchmark, time_limit)
 from laplace_springs.cli import main
-from laplace_springs.errors import SceneError
-from laplace_springs.reference import first_order_system, reference_motion_arb
+from laplace_springs.model.errors import SceneError
+from laplace_springs.bench.reference import first_order_system, reference_motion_arb
 
 FAST = BenchSettings(time_limit=10.0, ours_limit=30.0, max_runs=1, min_total=0.0)
 

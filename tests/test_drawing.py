@@ -13,7 +13,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 import laplace_springs as ls  # noqa: E402
-from laplace_springs.drawing import chain_of, draw_scene, math_label, physical_matrices  # noqa: E402
+from laplace_springs.output.drawing import chain_of, draw_scene, math_label, physical_matrices  # noqa: E402
 
 
 def _axes():

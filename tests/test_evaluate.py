@@ -1,4 +1,4 @@
-"""Float64 and mpmath evaluation of exact terms (laplace_springs.evaluate, pole_sum).
+"""Float64 and mpmath evaluation of exact terms (laplace_springs.numeric.terms, pole_sum).
 
 References: textbook inverse transforms evaluated with 50-digit mpmath, SymPy's adaptive
 evalf of the exact closed form, mpmath's expm for divided differences, and the arb
@@ -15,12 +15,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import laplace_springs as ls
-from laplace_springs import evaluate as ev
-from laplace_springs.evaluate import evaluate_float, evaluate_mp, numeric_terms
-from laplace_springs.inverse import inverse_laplace_terms
-from laplace_springs.pole_sum import first_row_exp
-from laplace_springs.real_terms import Term
-from laplace_springs.reference import reference_motion_arb, relative_error
+from laplace_springs.numeric import terms as evaluate as ev
+from laplace_springs.numeric.terms import evaluate_float, evaluate_mp, numeric_terms
+from laplace_springs.exact.inverse import inverse_laplace_terms
+from laplace_springs.numeric.pole_sum import first_row_exp
+from laplace_springs.exact.real_terms import Term
+from laplace_springs.bench.reference import reference_motion_arb, relative_error
 
 s, t = sp.symbols("s t")
 

@@ -2,7 +2,7 @@
 
 Independent checks: textbook closed forms (cited per test), mpmath quadrature of the
 Laplace integral, and an mpmath matrix exponential of the first-order system augmented
-with exosystem states that generate the forcing (laplace_springs.reference).
+with exosystem states that generate the forcing (laplace_springs.bench.reference).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.forcing import input_transform, parse_forcing
-from laplace_springs.reference import reference_forced_motion, reference_motion, relative_error
+from laplace_springs.model.forcing import input_transform, parse_forcing
+from laplace_springs.bench.reference import reference_forced_motion, reference_motion, relative_error
 
 t = ls.t
 s = sp.Symbol("s")
@@ -329,7 +329,7 @@ def test_irreducible_biquadratic_prints_real_frequencies():
 def test_modes_with_rescaled_algebraic_roots():
     # SymPy returns k*CRootOf(...) for some quartics; the modes must still come out,
     # matching mpmath's eigenvalues of the first-order matrix.
-    from laplace_springs.reference import first_order_matrix_mp
+    from laplace_springs.bench.reference import first_order_matrix_mp
 
     scene = ls.Scene.from_components(masses={"m0": "3e-3", "m1": 3},
                                      springs={"k1": ("wall", "m0", 2), "k2": ("m0", "m1", 50)},

@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.inverse import inverse_laplace_terms
+from laplace_springs.exact.inverse import inverse_laplace_terms
 
 s = sp.Symbol("s")
 t = sp.Symbol("t", positive=True)

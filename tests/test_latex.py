@@ -4,7 +4,7 @@ Every bundled scene's ``sol.latex()`` is rendered row by row with matplotlib's m
 (and as whole blocks with KaTeX when node and the katex package are available), then
 parsed back with ``sympy.parsing.latex.parse_latex``. The parsed x(t) rows, with the
 named constants replaced by the values printed in the "where" rows, are compared with
-the independent mpmath matrix exponential of laplace_springs.reference.
+the independent mpmath matrix exponential of laplace_springs.bench.reference.
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.latex_export import LatexWriter, resolvent_latex, sylvester_latex
-from laplace_springs.reference import reference_motion
+from laplace_springs.output.latex import LatexWriter, resolvent_latex, sylvester_latex
+from laplace_springs.bench.reference import reference_motion
 
 parse_latex = pytest.importorskip("sympy.parsing.latex").parse_latex
 pytest.importorskip("antlr4")
@@ -321,7 +321,7 @@ def test_two_factors_print_two_distinct_frequencies():
 
 
 def test_forced_piece_switched_on_at_tau_round_trips():
-    forcing = pytest.importorskip("laplace_springs.forcing")
+    forcing = pytest.importorskip("laplace_springs.model.forcing")
     try:
         scene = ls.Scene.from_matrices(M=[[1]], C=[["0.5"]], K=[[4]], x0=[1], v0=[0],
                                        forcing=[forcing.step(1, at=2) + forcing.sine(1, 3)])

@@ -20,10 +20,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import laplace_springs as ls
-from laplace_springs.algebraic import numeric_value
-from laplace_springs.errors import SceneError
-from laplace_springs.reference import relative_error
-from laplace_springs.scene_files import scene_from_toml_text
+from laplace_springs.exact.algebraic import numeric_value
+from laplace_springs.model.errors import SceneError
+from laplace_springs.bench.reference import relative_error
+from laplace_springs.model.scene_files import scene_from_toml_text
 
 TIMES = ["0", "0.25", "1", "3.5", "10"]
 
@@ -407,7 +407,7 @@ def _with_input(scene, F, common):
 def test_step_force_moves_a_spring_node_at_once():
     # node between wall spring 3 and spring 2 to a resting unit mass, force 1 on the node
     # from t = 0: at 0⁺ it sits at 1/(3 + 2), the mass has not moved
-    from laplace_springs.jumps import initial_jump
+    from laplace_springs.exact.jumps import initial_jump
     R, N, D = _with_input(spring_node(x0=(0, 0), v0=(0, 0)), [1, 0], ls.lam)
     jump = initial_jump(R, N, D)
     assert list(jump.x_plus) == [sp.Rational(1, 5), 0] and list(jump.v_plus) == [0, 0]
@@ -415,7 +415,7 @@ def test_step_force_moves_a_spring_node_at_once():
 
 def test_impulse_on_a_spring_node_is_an_impulse_in_its_position():
     # force δ(t) on the node: 5 x_n − 2 x_m = δ gives x_n ∋ δ/5 and the mass a kick 2/5
-    from laplace_springs.jumps import initial_jump, jump_residuals
+    from laplace_springs.exact.jumps import initial_jump, jump_residuals
     scene = spring_node(x0=(0, 0), v0=(0, 0))
     R, N, D = _with_input(scene, [1, 0], 1)
     jump = initial_jump(R, N, D)

@@ -1,4 +1,4 @@
-"""Tests of laplace_springs.matrix_functions.
+"""Tests of laplace_springs.exact.sylvester.
 
 Expected values come from the seed's printed results (Example 1: (1.4), Φ(t), Ψ(t),
 Z_j, Z_2j and U(t) = e^{Bt}) or from an independent oracle: mpmath's matrix
@@ -14,9 +14,9 @@ import mpmath
 import pytest
 import sympy as sp
 
-from laplace_springs.algebraic import numeric_value
-from laplace_springs.errors import SceneError
-from laplace_springs.matrix_functions import (
+from laplace_springs.exact.algebraic import numeric_value
+from laplace_springs.model.errors import SceneError
+from laplace_springs.exact.sylvester import (
     cos_sqrt,
     expm,
     first_order_matrix,
@@ -26,7 +26,7 @@ from laplace_springs.matrix_functions import (
     spectral_decomposition,
     sylvester_matrices,
 )
-from laplace_springs.numbers import TIME
+from laplace_springs.model.numbers import TIME
 
 t = sp.Symbol("t")
 I, R = sp.I, sp.Rational

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 import sympy
 
-from laplace_springs.errors import SceneError
-from laplace_springs.numbers import (
+from laplace_springs.model.errors import SceneError
+from laplace_springs.model.numbers import (
     ALLOWED_FUNCTIONS,
     MAX_EXPRESSION_LENGTH,
     MAX_NESTING_DEPTH,

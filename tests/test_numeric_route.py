@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 
 from laplace_springs import Scene, SceneError, bundled_scenes, load_scene, t
-from laplace_springs.numeric_route import NumericSolution, solve_numeric
-from laplace_springs.reference import reference_motion, reference_motion_arb, relative_error
+from laplace_springs.numeric.modal import NumericSolution, solve_numeric
+from laplace_springs.bench.reference import reference_motion, reference_motion_arb, relative_error
 
 TIMES = np.array([0.0, 0.3, 1.0, 2.5, 7.0, 15.0, 40.0])
 

@@ -1,6 +1,6 @@
 """Plots and the numbers behind them, checked against independent routes.
 
-Velocities are checked against the mpmath matrix exponential (laplace_springs.reference)
+Velocities are checked against the mpmath matrix exponential (laplace_springs.bench.reference)
 of the same scene started from (v0, a0), a0 = M⁻¹(−C v0 − K x0): the velocity obeys the
 same equation. Energies are checked against the initial energy computed exactly from the
 scene's data, and against the physics (damping only removes energy).
@@ -20,11 +20,11 @@ import sympy as sp  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 import laplace_springs as ls  # noqa: E402
-from laplace_springs.plotting import (  # noqa: E402
+from laplace_springs.output.plots import (  # noqa: E402
     default_t_end, energy, motion, overview_figure, plot_energy, plot_frequency_response,
     plot_motion, plot_phase,
 )
-from laplace_springs.reference import reference_motion, relative_error  # noqa: E402
+from laplace_springs.bench.reference import reference_motion, relative_error  # noqa: E402
 
 SCENES = sorted(ls.bundled_scenes())
 

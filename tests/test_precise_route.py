@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from laplace_springs import Scene, solve
-from laplace_springs.precise_route import PreciseModes, decompose_precise, solve_precise
-from laplace_springs.reference import reference_motion_arb, relative_error
+from laplace_springs.numeric.balls import PreciseModes, decompose_precise, solve_precise
+from laplace_springs.bench.reference import reference_motion_arb, relative_error
 
 
 def chain(n: int, *, stiff: str = "1", light: str = "1", damping: str = "1/100", ends=("wall", "wall")):
@@ -103,7 +103,7 @@ def test_float_evaluation_escalates_over_a_long_horizon():
 def test_float_route_block_spanning_decades_stays_finite():
     # mass ratio 1e-6 in a 20-mass chain: one block holds poles from -2e4 to ~0; its
     # exponential is taken relative to its rightmost rate (it used to overflow to NaN)
-    from laplace_springs.numeric_route import solve_numeric
+    from laplace_springs.numeric.modal import solve_numeric
 
     scene = chain(20, light="1/1000000")
     times = np.linspace(0.0, 20.0, 9)

@@ -17,9 +17,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from laplace_springs import Scene, SceneError, solve
-from laplace_springs.numeric_route import solve_numeric
-from laplace_springs.reference import reference_motion_arb, relative_error
-from laplace_springs.scene_files import scene_from_toml_text
+from laplace_springs.numeric.modal import solve_numeric
+from laplace_springs.bench.reference import reference_motion_arb, relative_error
+from laplace_springs.model.scene_files import scene_from_toml_text
 
 TIMES = np.array([0.0, 0.4, 1.1, 3.0, 8.5])
 SMALL = ["1/2", "1", "3/2", "2", "3", "1/3", "5/4"]

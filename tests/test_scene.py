@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 import sympy
 
-from laplace_springs.errors import SceneError
-from laplace_springs.scene import SUPPORTS, Component, Scene
+from laplace_springs.model.errors import SceneError
+from laplace_springs.model.scene import SUPPORTS, Component, Scene
 
 R = sympy.Rational
 

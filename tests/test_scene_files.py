@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 import sympy
 
-from laplace_springs.errors import SceneError
-from laplace_springs.scene_files import bundled_scenes, load_scene, scene_from_toml_text
+from laplace_springs.model.errors import SceneError
+from laplace_springs.model.scene_files import bundled_scenes, load_scene, scene_from_toml_text
 
 R = sympy.Rational
 

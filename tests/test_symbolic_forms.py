@@ -1,7 +1,7 @@
 """Symbolic scenes in named quantities: size, definitions, assumptions, correctness.
 
 Correctness is always checked after substituting numbers, against the independent
-mpmath matrix exponential of laplace_springs.reference (never the code's own formulas);
+mpmath matrix exponential of laplace_springs.bench.reference (never the code's own formulas);
 the definitions against quantities computed directly from the matrices (trace and
 determinant of A = M⁻¹K) and the textbook damped oscillator.
 """
@@ -12,11 +12,11 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.numbers import to_exact
-from laplace_springs.partial_fractions import decompose
-from laplace_springs.real_terms import solution_terms, terms_expr
-from laplace_springs.reference import reference_motion, relative_error
-from laplace_springs.symbolic_forms import NamedQuantity, expand_names, named
+from laplace_springs.model.numbers import to_exact
+from laplace_springs.exact.partial_fractions import decompose
+from laplace_springs.exact.real_terms import solution_terms, terms_expr
+from laplace_springs.bench.reference import reference_motion, relative_error
+from laplace_springs.exact.named import NamedQuantity, expand_names, named
 
 SEED3 = {"m1": "1", "m2": "2/3", "k1": "0.3", "k2": "0.08", "k3": "0.2",
          "d1": "-0.08", "d2": "0.4", "v1": "0.15", "v2": "-0.3"}

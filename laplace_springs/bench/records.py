@@ -1,0 +1,144 @@
+"""What the error-against-run-time benchmark records: cases, settings, records, verdicts.
+
+Shared by :mod:`laplace_springs.bench.harness` (which measures) and
+:mod:`laplace_springs.bench.report` (which writes), so neither imports the other's internals.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..model.scene import Scene
+from .methods import Method
+
+__all__ = ["BenchCase", "BenchSettings", "Record", "Verdict", "BenchmarkResult", "TIE_FLOOR",
+           "TIE_FACTOR", "DEFAULT_ROUTE", "more_accurate", "pareto_verdict"]
+
+#: Errors at or below this count as equal (float64 rounding of the output).
+TIE_FLOOR = 1e-15
+#: A peer is more accurate only if its (floored) error is smaller by more than this factor.
+TIE_FACTOR = 2.0
+#: Name of our default route among the methods.
+DEFAULT_ROUTE = "ours"
+
+
+@dataclass(frozen=True)
+class BenchCase:
+    """A scene and the times to evaluate it at (same fields as ``battery.BatteryCase``)."""
+
+    name: str
+    kind: str
+    description: str
+    scene: Scene
+    times: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class BenchSettings:
+    """Limits of a run.
+
+    Attributes
+    ----------
+    time_limit : float
+        Seconds allowed for one run of a peer on one case (and for its setup); raised
+        to twice our route's time on cases where ours is slower, so a limit never
+        hides a peer that could have been faster than ours.
+    ours_limit : float
+        Seconds allowed for one run of one of our routes.
+    sympy_limit : float
+        Seconds allowed for SymPy's inversion of one case (in its worker process).
+    max_runs : int
+        At most this many timed runs per method and case.
+    min_total : float
+        Runs are repeated (up to ``max_runs``) while their total time is below this.
+    digits : int
+        Certified digits of the reference.
+    """
+
+    time_limit: float = 2.0
+    ours_limit: float = 60.0
+    sympy_limit: float = 10.0
+    max_runs: int = 5
+    min_total: float = 0.3
+    digits: int = 60
+
+
+@dataclass
+class Record:
+    """One method on one case."""
+
+    case: str
+    kind: str
+    method: str
+    label: str
+    ours: bool
+    status: str                    # "ok", "timeout", "skipped" or "failed"
+    error: float | None = None
+    seconds: float | None = None
+    runs: int = 0
+    phases: dict[str, float] = field(default_factory=dict)
+    note: str = ""
+
+
+@dataclass
+class Verdict:
+    """Whether our default route is on a case's accuracy–time Pareto front."""
+
+    case: str
+    ours: Record | None
+    dominated_by: list[Record]          # tie band applied (TIE_FLOOR, TIE_FACTOR)
+    strictly_dominated_by: list[Record]  # raw errors
+
+    @property
+    def on_front(self) -> bool | None:
+        """True/False, or None when our route produced no result on this case."""
+        if self.ours is None or self.ours.status != "ok":
+            return None
+        return not self.dominated_by
+
+
+@dataclass
+class BenchmarkResult:
+    """All records, the verdicts, the files written and the wall time of the run."""
+
+    cases: list[BenchCase]
+    methods: list[Method]
+    records: list[Record]
+    verdicts: list[Verdict]
+    settings: BenchSettings
+    wall_seconds: float
+    files: dict[str, Path] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+def _floored(error: float) -> float:
+    return max(error, TIE_FLOOR)
+
+
+def more_accurate(error: float, than: float, *, strict: bool = False) -> bool:
+    """Whether ``error`` is more accurate than ``than`` under the report's tie rule.
+
+    Examples
+    --------
+    >>> more_accurate(1e-16, 8e-16), more_accurate(1e-16, 8e-16, strict=True)
+    (False, True)
+    >>> more_accurate(1e-12, 1e-9)
+    True
+    """
+    if strict:
+        return error < than
+    return _floored(error) * TIE_FACTOR < _floored(than)
+
+
+def pareto_verdict(records: Sequence[Record], route: str = DEFAULT_ROUTE) -> Verdict:
+    """Which peers are both faster than our ``route`` and more accurate, on one case."""
+    ours = next((r for r in records if r.method == route), None)
+    case = records[0].case if records else ""
+    if ours is None or ours.status != "ok":
+        return Verdict(case, ours, [], [])
+    peers = [r for r in records if not r.ours and r.status == "ok" and r.seconds < ours.seconds]
+    return Verdict(case, ours,
+                   [r for r in peers if more_accurate(r.error, ours.error)],
+                   [r for r in peers if more_accurate(r.error, ours.error, strict=True)])

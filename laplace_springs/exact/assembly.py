@@ -1,0 +1,292 @@
+"""Assemble the exact motion x(t) from the resolvent: pieces, terms, g-basis, jumps.
+
+Each coordinate X_i(λ) = N_i(λ)/Δ(λ) is inverted by the shared partial-fraction engine
+(the denominator is factored once). A driven scene adds one *piece* per delay τ of its
+inputs: terms in t − τ switched on at t = τ. The seed's basis g_k(t) = L⁻¹[λ^k/Δ(λ)] and
+the coefficients c_ik with x_i(t) = Σ_k c_ik g_k(t) are available beside the closed form.
+
+Nothing here evaluates numbers or writes output: :class:`ExactMotion` is the exact data
+the later stages (evaluation, LaTeX, plots) read.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Literal
+
+import sympy as sp
+
+from ..model.forcing import input_transform
+from ..model.scene import Scene
+from ..model.symbols import TIME, lam
+from .jumps import InitialJump, initial_jump
+from .named import definitions, expand_names
+from .partial_fractions import decompose
+from .real_terms import Term, derivative_terms, group_terms, naming_scope, solution_terms, terms_expr
+from .resolvent import Resolvent, resolvent
+
+__all__ = ["Piece", "ExactMotion", "exact_motion"]
+
+Part = Literal["all", "steady", "transient"]
+
+
+@dataclass(frozen=True)
+class Piece:
+    """One part of the motion: terms in the shifted time t − τ, switched on at t = τ.
+
+    The free response and every input starting at t = 0 form the piece with delay 0;
+    an input delayed by τ (a step or impulse at τ, a window's end) adds a piece with
+    that delay.
+
+    Attributes
+    ----------
+    delay : sympy.Expr
+        τ ≥ 0.
+    terms : tuple of tuple of Term
+        Per coordinate, real terms in the variable t − τ.
+    steady : tuple of tuple of bool
+        Per term: whether its pole is a pole of the input (steady-state part) rather
+        than of the system alone (transient part).
+    impulses : tuple of tuple of sympy.Expr
+        Per coordinate, coefficients c_j of DiracDelta(t − τ, j) in x: only an impulsive
+        input on a massless node puts them there. Empty when there are none.
+    numerators, denominator : sympy.Poly
+        The piece's transform X_τ(λ) = numerators/denominator (forced scenes).
+    """
+
+    delay: sp.Expr
+    terms: tuple[tuple[Term, ...], ...]
+    steady: tuple[tuple[bool, ...], ...]
+    impulses: tuple[tuple[sp.Expr, ...], ...] = ()
+    numerators: tuple[sp.Poly, ...] = ()
+    denominator: sp.Poly | None = None
+
+    def expr(self, row: int, part: Part = "all") -> sp.Expr:
+        """Coordinate ``row`` of this piece in :data:`TIME` (Heaviside-switched if τ > 0)."""
+        chosen = [term for term, steady in zip(self.terms[row], self.steady[row])
+                  if part == "all" or steady == (part == "steady")]
+        shifted = TIME - self.delay
+        deltas = sp.Add(*(c * (sp.DiracDelta(shifted) if j == 0 else sp.DiracDelta(shifted, j))
+                          for j, c in enumerate(self.impulses[row] if self.impulses else ())
+                          if c != 0)) if part != "steady" else sp.S.Zero
+        if self.delay == 0:
+            return terms_expr(chosen, TIME) + deltas
+        body = terms_expr(chosen, shifted)
+        return (sp.Heaviside(shifted) * body if body != 0 else sp.S.Zero) + deltas
+
+    def derivative(self) -> Piece:
+        """d/dt of the piece's terms (the impulses at the switching time are left out)."""
+        rows = derivative_terms(self.terms)
+        steady = tuple(tuple(flag for term, flag in zip(row, flags)
+                             for _ in derivative_terms(((term,),))[0])
+                       for row, flags in zip(self.terms, self.steady))
+        return dataclasses.replace(self, terms=rows, steady=steady, impulses=())
+
+
+@dataclass(frozen=True, eq=False)
+class ExactMotion:
+    """Exact motion x(t) of a scene, in real damped sine/cosine form.
+
+    Build it with :func:`exact_motion`. ``pieces[k].terms[i]`` hold the structured real
+    terms of coordinate i switched on at ``pieces[k].delay``; :attr:`x` is the same as a
+    SymPy column matrix in :data:`laplace_springs.t`.
+    """
+
+    scene: Scene
+    resolvent: Resolvent
+    pieces: tuple[Piece, ...]
+
+    @property
+    def terms(self) -> tuple[tuple[Term, ...], ...]:
+        """The terms of the piece switched on at t = 0 (the whole motion of a free scene)."""
+        return self.pieces[0].terms
+
+    @cached_property
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t) as a SymPy column matrix in :data:`laplace_springs.t`.
+
+        A response to an input delayed by τ carries the factor Heaviside(t − τ); nothing
+        else does (the whole solution holds for t ≥ 0).
+        """
+        return self.part("all")
+
+    def part(self, part: Part) -> sp.ImmutableMatrix:
+        """``"all"`` of x(t), its ``"steady"`` state or its ``"transient"``."""
+        return sp.ImmutableMatrix([sp.Add(*(piece.expr(i, part) for piece in self.pieces))
+                                   for i in range(self.scene.n)])
+
+    def derivative(self) -> ExactMotion:
+        """x'(t) as an exact motion of the same scene (impulses at switching times left out).
+
+        Examples
+        --------
+        >>> from laplace_springs.model.scene import Scene
+        >>> motion = exact_motion(Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
+        >>> motion.derivative().x[0]
+        -2*sin(2*t)
+        """
+        return dataclasses.replace(self, pieces=tuple(p.derivative() for p in self.pieces))
+
+    # -- the seed's g-basis ---------------------------------------------------
+    @cached_property
+    def g_denominator(self) -> sp.Poly:
+        """The Δ(λ) of the g-basis: integer, content 1 (as the seed prints it)."""
+        return self.resolvent.integer_characteristic_polynomial
+
+    @cached_property
+    def g_coefficients(self) -> sp.ImmutableMatrix:
+        """c_ik with x_i(t) = Σ_k c_ik g_k(t), k = 0..2n-1 (the seed's K_j and N_j).
+
+        Columns k ≥ deg Δ are zero (deg Δ < 2n when M is singular: massless nodes).
+        """
+        R = self.resolvent
+        scale = sp.cancel(self.g_denominator.as_expr() / R.determinant.as_expr())
+        n2 = 2 * self.scene.n
+        rows = []
+        for N in R.numerators:
+            coeffs = list(reversed(N.all_coeffs())) if not N.is_zero else []
+            coeffs += [0] * (n2 - len(coeffs))
+            rows.append([sp.factor_terms(sp.expand(scale * c)) for c in coeffs[:n2]])
+        return sp.ImmutableMatrix(rows)
+
+    @cached_property
+    def g_indices(self) -> tuple[int, ...]:
+        """The k whose g_k occurs in some coordinate (nonzero column of c_ik)."""
+        C = self.g_coefficients
+        return tuple(k for k in range(C.shape[1]) if any(C[i, k] != 0 for i in range(C.shape[0])))
+
+    @cached_property
+    def g_basis(self) -> dict[int, sp.Expr]:
+        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
+        D = self.g_denominator
+        monomials = [sp.Poly(lam**k, lam, domain=D.domain) for k in self.g_indices]
+        return {k: terms_expr(list(row), TIME)
+                for k, row in zip(self.g_indices, solution_terms(decompose(monomials, D)))}
+
+    def g_form(self) -> sp.ImmutableMatrix:
+        """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
+        C = self.g_coefficients
+        g = {k: sp.Function(f"g_{k}")(TIME) for k in self.g_indices}
+        return sp.ImmutableMatrix([sp.Add(*(C[i, k] * g[k] for k in self.g_indices))
+                                   for i in range(C.shape[0])])
+
+    # -- the start ------------------------------------------------------------
+    @cached_property
+    def initial_jump(self) -> InitialJump:
+        """x(0⁺), x'(0⁺) and what jumped at t = 0 (nothing unless M is singular).
+
+        A massless node joined only by springs starts where its springs balance; one with
+        a dashpot keeps its position but takes the velocity its dashpot law sets. Masses
+        keep position and velocity. ``impulses`` lists δ^(k) terms of x at t = 0 (only
+        non-physical, indefinite data produce them). From X(λ) at λ = ∞, exactly.
+
+        Examples
+        --------
+        >>> from laplace_springs.model.scene import Scene
+        >>> scene = Scene.from_components(masses={"n": 0, "m": 1},
+        ...     springs={"k1": ("wall", "n", 3), "k2": ("n", "m", 2)}, x0=[1, 2], v0=[0, 1])
+        >>> jump = exact_motion(scene).initial_jump
+        >>> jump.x_plus.T, jump.position.T, jump.velocity.T
+        (Matrix([[4/5, 2]]), Matrix([[-1/5, 0]]), Matrix([[2/5, 0]]))
+        """
+        first = self.pieces[0]
+        if first.denominator is None:
+            return initial_jump(self.resolvent)
+        return initial_jump(self.resolvent, list(first.numerators), first.denominator)
+
+    def impulsive_load(self) -> sp.Matrix | None:
+        """J with J·δ(t) the impulses the forcing applies at t = 0 (None without)."""
+        s = self.scene
+        if s.forcing is None or not s.is_forced or not s.forcing.has(sp.DiracDelta):
+            return None
+        inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(s.forcing)]
+        return sp.Matrix([sp.limit(dict(T.parts).get(sp.S.Zero, 0), lam, sp.oo) for T in inputs])
+
+    # -- named quantities of symbolic scenes ------------------------------------
+    @property
+    def definitions(self) -> dict:
+        """Named quantity → definition for the names in :attr:`x` (ω_j, γ_j, S_j, P_j).
+
+        Empty for numeric scenes. A definition may use names listed before it.
+
+        Examples
+        --------
+        >>> from laplace_springs.model.scene import Scene
+        >>> motion = exact_motion(Scene.from_matrices(M=[["m"]], K=[["k"]], x0=[1], v0=[0]))
+        >>> motion.x[0], motion.definitions
+        (cos(t*omega_1), {omega_1: sqrt(k)/sqrt(m)})
+        """
+        return definitions(list(self.x))
+
+    def substituted(self) -> sp.ImmutableMatrix:
+        """:attr:`x` with every named quantity replaced by its definition in the parameters."""
+        return sp.ImmutableMatrix(expand_names(self.x))
+
+
+def exact_motion(scene: Scene) -> ExactMotion:
+    """The exact motion of a scene, free or driven.
+
+    Examples
+    --------
+    A critically damped mass, x'' + 2x' + x = 0, x(0) = 1:
+
+    >>> from laplace_springs.model.scene import Scene
+    >>> exact_motion(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0])).x[0]
+    t*exp(-t) + exp(-t)
+    """
+    R = resolvent(scene)
+    if not scene.is_forced:
+        rows = solution_terms(decompose(list(R.numerators), R.determinant))
+        flags = tuple((False,) * len(row) for row in rows)
+        return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),))
+    return ExactMotion(scene, R, _forced_pieces(scene, R))
+
+
+def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
+    """Pieces of X(λ) = adj·[r(λ) + F(λ)]/Δ: one per delay of the inputs (delay 0 first).
+
+    For each delay τ the inputs' rational parts R_τj = P_j/Q_j are put over their common
+    denominator D_τ; the piece is adj·(D_τ F_τ + [τ = 0] D_τ r)/(Δ D_τ), inverted by the
+    same partial-fraction engine. A pole group whose factor divides D_τ is steady state.
+    """
+    assert scene.forcing is not None
+    inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
+    delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
+    with naming_scope():
+        return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
+
+
+def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
+    """The piece of the response switched on at ``tau``."""
+    fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
+    D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
+    load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
+    numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
+                  for i in range(scene.n)]
+    if tau == 0:
+        numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
+    denominator = R.determinant * D
+    rows, flags, impulses = [], [], []
+    for pf in decompose(numerators, denominator):
+        pairs = [(term, _divides(group.factor, D))
+                 for group in pf.groups for term in group_terms(group)]
+        rows.append(tuple(term for term, _ in pairs))
+        flags.append(tuple(steady for _, steady in pairs))
+        to_sympy = pf.polynomial.domain.to_sympy
+        impulses.append(tuple(to_sympy(c) for c in reversed(pf.polynomial.all_coeffs()))
+                        if not pf.polynomial.is_zero else ())
+    return Piece(tau, tuple(rows), tuple(flags), tuple(impulses) if any(impulses) else (),
+                 tuple(numerators), denominator)
+
+
+def _poly(expr) -> sp.Poly:
+    return sp.Poly(sp.expand(expr), lam)
+
+
+def _divides(factor: sp.Poly, D: sp.Poly) -> bool:
+    """Whether the irreducible ``factor`` divides ``D`` (over a common field)."""
+    if D.degree() <= 0:
+        return False
+    return sp.rem(D.as_expr(), factor.as_expr(), lam) == 0

@@ -1,0 +1,144 @@
+"""The resolvent (λ²M + λC + K)⁻¹ as an exact adjugate over the determinant Δ(λ).
+
+Taking the Laplace transform of M x'' + C x' + K x = 0 with x(0) = x0, x'(0) = v0 gives
+
+    (λ²M + λC + K) X(λ) = M(λ x0 + v0) + C x0,
+
+so X(λ) = adj(λ) r(λ) / Δ(λ) with Δ(λ) = det(λ²M + λC + K). The seed writes the same
+thing in normalised form, (λ²I + λB + A)⁻¹ = (λ²M + λC + K)⁻¹ M with A = M⁻¹K, B = M⁻¹C.
+Everything here is fraction-free polynomial arithmetic (SymPy's DomainMatrix Bareiss
+adjugate over ℚ[λ] or ℤ[params][λ]): no floats for exact input.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from ..model.scene import Scene
+from ..model.symbols import lam
+
+__all__ = ["lam", "Resolvent", "resolvent"]
+
+
+
+def _poly(expr: sp.Expr) -> sp.Poly:
+    return sp.Poly(expr, lam)
+
+
+@dataclass(frozen=True, eq=False)
+class Resolvent:
+    """Exact resolvent of a scene: Δ(λ), adj(λ) and the transform X(λ).
+
+    Build it with :func:`resolvent`. Attributes
+    ----------
+    scene : Scene
+        The scene it belongs to.
+    determinant : sympy.Poly
+        Δ(λ) = det(λ²M + λC + K), in the variable :data:`lam`.
+    adjugate : sympy.ImmutableMatrix
+        adj(λ²M + λC + K), polynomial entries in λ.
+    numerators : tuple of sympy.Poly
+        N_i(λ) with X_i(λ) = N_i(λ)/Δ(λ), i.e. adj(λ)·[M(λx0 + v0) + C x0].
+    """
+
+    scene: Scene
+    determinant: sp.Poly
+    adjugate: sp.ImmutableMatrix
+    numerators: tuple[sp.Poly, ...]
+
+    @property
+    def variable(self) -> sp.Symbol:
+        """The transform variable λ."""
+        return lam
+
+    @cached_property
+    def characteristic_polynomial(self) -> sp.Poly:
+        """det(λ²I + λB + A) = Δ(λ)/det(M): the monic form of the normalised system."""
+        return self.determinant.monic()
+
+    @cached_property
+    def integer_characteristic_polynomial(self) -> sp.Poly:
+        """Δ(λ) scaled to integer coefficients with content 1 and positive leading term.
+
+        This is how the seed prints it (Example 2: 25λ⁴ + 10λ³ + 126λ² + 25λ + 100).
+        For symbolic coefficients it is the monic :attr:`characteristic_polynomial`.
+        """
+        monic = self.characteristic_polynomial
+        if not monic.domain.is_QQ:
+            return monic
+        _, integer = monic.clear_denoms(convert=True)
+        return integer.primitive()[1]
+
+    def pencil(self) -> sp.ImmutableMatrix:
+        """The matrix λ²M + λC + K."""
+        s = self.scene
+        return sp.ImmutableMatrix(lam**2 * s.M + lam * s.C + s.K)
+
+    def matrix(self) -> sp.ImmutableMatrix:
+        """(λ²M + λC + K)⁻¹ = adj(λ)/Δ(λ), entry by entry."""
+        delta = self.determinant.as_expr()
+        return sp.ImmutableMatrix(self.adjugate.applyfunc(lambda e: sp.cancel(e / delta)))
+
+    def normalized(self) -> sp.ImmutableMatrix:
+        """The seed's R(λ) = (λ²I + λB + A)⁻¹ = adj(λ) M / Δ(λ)."""
+        delta = self.determinant.as_expr()
+        product = self.adjugate * self.scene.M
+        return sp.ImmutableMatrix(product.applyfunc(lambda e: sp.cancel(sp.expand(e) / delta)))
+
+    def initial_vector(self) -> sp.ImmutableMatrix:
+        """r(λ) = M(λ x0 + v0) + C x0, the right-hand side the initial data give."""
+        s = self.scene
+        return sp.ImmutableMatrix((s.M * (lam * s.x0 + s.v0) + s.C * s.x0).applyfunc(sp.expand))
+
+    def transform(self) -> sp.ImmutableMatrix:
+        """X(λ), one rational function per coordinate (common factors cancelled)."""
+        delta = self.determinant.as_expr()
+        return sp.ImmutableMatrix([sp.cancel(N.as_expr() / delta) for N in self.numerators])
+
+
+def _adjugate_and_determinant(P: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
+    """Fraction-free adjugate and determinant of a polynomial matrix."""
+    if P.shape == (1, 1):
+        return sp.Matrix([[1]]), P[0, 0]
+    dM = DomainMatrix.from_Matrix(P)
+    adj, det = dM.adj_det()
+    return adj.to_Matrix(), dM.domain.to_sympy(det)
+
+
+def resolvent(scene: Scene) -> Resolvent:
+    """Exact resolvent of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Masses, damping, stiffness and initial data.
+
+    Returns
+    -------
+    Resolvent
+        Δ(λ), adj(λ) and the numerators of X(λ) = adj(λ) r(λ)/Δ(λ).
+
+    Examples
+    --------
+    The seed's Example 2 (A = [[3, -1], [-2, 2]], B = 0.2 I):
+
+    >>> from laplace_springs.model.scene import Scene
+    >>> scene = Scene.from_normalized(A=[[3, -1], [-2, 2]], B=[["0.2", 0], [0, "0.2"]],
+    ...                               x0=[1, 0], v0=[0, 0])
+    >>> R = resolvent(scene)
+    >>> R.integer_characteristic_polynomial.as_expr()
+    25*lambda**4 + 10*lambda**3 + 126*lambda**2 + 25*lambda + 100
+    >>> R.normalized()[0, 0]
+    (25*lambda**2 + 5*lambda + 50)/(25*lambda**4 + 10*lambda**3 + 126*lambda**2 + 25*lambda + 100)
+    """
+    P = lam**2 * scene.M + lam * scene.C + scene.K
+    adjugate, det = _adjugate_and_determinant(sp.Matrix(P))
+    adjugate = adjugate.applyfunc(sp.expand)
+    determinant = _poly(sp.expand(det))
+    rhs = scene.M * (lam * scene.x0 + scene.v0) + scene.C * scene.x0
+    numerators = tuple(_poly(sp.expand(e)) for e in adjugate * rhs)
+    return Resolvent(scene, determinant, sp.ImmutableMatrix(adjugate), numerators)

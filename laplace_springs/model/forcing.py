@@ -1,0 +1,423 @@
+"""Forcing inputs f(t): parsing, small constructors, and exact Laplace transforms.
+
+A forcing term is any finite sum of products of
+
+    constants, t^k, e^{a t}, cos(b t + φ), sin(b t + φ), cosh, sinh,
+    Heaviside(c t + d) (steps, windows), DiracDelta(c t + d) (impulses),
+
+with a, b, c, d, φ exact real numbers or symbols. Its transform is
+F(s) = Σ_τ e^{-sτ} R_τ(s) with rational R_τ: one rational part per delay τ ≥ 0. The
+solution stage turns each part into a response switched on at τ.
+
+Inside the module every product is reduced to atoms c · t^k · e^{z t} switched on at τ
+(z complex: a ± i b), whose transform is c · k!/(s - z)^{k+1} times e^{-sτ}; the atoms
+of each delay are summed and brought back to a real rational function.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+from math import comb, factorial
+from typing import Any
+
+import sympy as sp
+
+from .errors import SceneError
+from .numbers import parse_expression, to_exact
+from .symbols import TIME, lam
+
+__all__ = [
+    "InputTransform",
+    "parse_forcing",
+    "input_transform",
+    "cosine",
+    "sine",
+    "step",
+    "impulse",
+    "ramp",
+]
+
+t = TIME
+_WAVES = (sp.exp, sp.cos, sp.sin, sp.cosh, sp.sinh)
+
+
+# ----------------------------------------------------------------------------
+# Parsing and constructors
+# ----------------------------------------------------------------------------
+
+def parse_forcing(value: Any, entry: str) -> sp.Expr:
+    """One forcing entry as an exact SymPy expression in :data:`laplace_springs.t`.
+
+    Parameters
+    ----------
+    value : str, number or sympy.Expr
+        Text such as ``"10*cos(20*t)"`` (parsed safely, never evaluated), a number
+        (a constant force), or a SymPy expression; a symbol named ``t`` in it is time.
+    entry : str
+        What the value is, for error messages, e.g. ``"forcing[0]"``.
+
+    Returns
+    -------
+    sympy.Expr
+        Exact: floats become their decimal value (0.2 is 1/5).
+
+    Raises
+    ------
+    SceneError
+        For text that does not parse, or an input whose transform is not rational times
+        delays (e.g. ``1/(t + 1)``, ``cos(t**2)``); the message names ``entry``.
+
+    Examples
+    --------
+    >>> parse_forcing("3*sin(2*t + 1/2)", "forcing[0]")
+    3*sin(2*t + 1/2)
+    >>> parse_forcing(0.5, "forcing[1]")
+    1/2
+    >>> parse_forcing("1/(t + 1)", "forcing[0]")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: forcing[0]: 1/(t + 1) is not supported: 1/(t + 1) is not a power t**k, exp, cos, sin, cosh, sinh, Heaviside or DiracDelta of a linear argument
+    """
+    if isinstance(value, str):
+        expr = parse_expression(value.strip(), entry)
+    elif isinstance(value, sp.Basic):
+        time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
+        expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)
+    else:
+        expr = to_exact(value, entry)
+    input_transform(expr, entry)  # refuse unsupported inputs now, with their entry
+    return expr
+
+
+def cosine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
+    """``amplitude * cos(frequency * t + phase)``, exactly.
+
+    Examples
+    --------
+    >>> cosine(10, 20)
+    10*cos(20*t)
+    >>> cosine("1/2", 3, "pi/4")
+    cos(3*t + pi/4)/2
+    """
+    return (to_exact(amplitude, "amplitude")
+            * sp.cos(to_exact(frequency, "frequency") * t + to_exact(phase, "phase")))
+
+
+def sine(amplitude: Any = 1, frequency: Any = 1, phase: Any = 0) -> sp.Expr:
+    """``amplitude * sin(frequency * t + phase)``, exactly.
+
+    Examples
+    --------
+    >>> sine(2, 0.5)
+    2*sin(t/2)
+    """
+    return (to_exact(amplitude, "amplitude")
+            * sp.sin(to_exact(frequency, "frequency") * t + to_exact(phase, "phase")))
+
+
+def step(amplitude: Any = 1, at: Any = 0) -> sp.Expr:
+    """A step of height ``amplitude`` switched on at time ``at`` (a constant if at = 0).
+
+    Examples
+    --------
+    >>> step(3)
+    3
+    >>> step(2, at=1.5)
+    2*Heaviside(t - 3/2)
+    """
+    at = _nonnegative(at, "at")
+    height = to_exact(amplitude, "amplitude")
+    return height if at == 0 else height * sp.Heaviside(t - at)
+
+
+def impulse(amplitude: Any = 1, at: Any = 0) -> sp.Expr:
+    """An impulse ``amplitude * DiracDelta(t - at)``: a blow that changes momentum.
+
+    Examples
+    --------
+    >>> impulse(2, at=1)
+    2*DiracDelta(t - 1)
+    """
+    return to_exact(amplitude, "amplitude") * sp.DiracDelta(t - _nonnegative(at, "at"))
+
+
+def ramp(slope: Any = 1, at: Any = 0) -> sp.Expr:
+    """A ramp ``slope * (t - at)`` starting at time ``at``.
+
+    Examples
+    --------
+    >>> ramp(2)
+    2*t
+    >>> ramp(1, at=2)
+    (t - 2)*Heaviside(t - 2)
+    """
+    at = _nonnegative(at, "at")
+    rise = to_exact(slope, "slope") * (t - at)
+    return rise if at == 0 else rise * sp.Heaviside(t - at)
+
+
+def _nonnegative(value: Any, entry: str) -> sp.Expr:
+    value = to_exact(value, entry)
+    if not value.is_number or value.is_negative:
+        raise SceneError(f"{entry} must be a number >= 0, got {value}")
+    return value
+
+
+# ----------------------------------------------------------------------------
+# Laplace transform
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class InputTransform:
+    """F(s) = Σ_τ e^{-sτ} R_τ(s) of one forcing input.
+
+    Attributes
+    ----------
+    parts : tuple of (sympy.Expr, sympy.Expr)
+        ``(τ, R_τ(s))`` pairs, τ ≥ 0 increasing, R_τ a rational function of ``s``.
+    variable : sympy.Symbol
+        The transform variable s.
+
+    Examples
+    --------
+    >>> s = sp.Symbol("s")
+    >>> input_transform(parse_forcing("Heaviside(t - 1) + t", "f"), "f", s).as_expr()
+    exp(-s)/s + s**(-2)
+    """
+
+    parts: tuple[tuple[sp.Expr, sp.Expr], ...]
+    variable: sp.Symbol
+
+    def as_expr(self) -> sp.Expr:
+        """The transform as one expression with explicit ``exp(-s τ)`` factors."""
+        s = self.variable
+        return sp.Add(*(R * sp.exp(-s * tau) for tau, R in self.parts))
+
+
+@dataclass(frozen=True)
+class _Atom:
+    coefficient: sp.Expr
+    power: int
+    rate: sp.Expr  # complex exponent z
+    delay: sp.Expr
+
+
+class _Unsupported(Exception):
+    def __init__(self, factor: sp.Expr, why: str = ""):
+        super().__init__(factor)
+        self.factor, self.why = factor, why
+
+
+_KINDS = "a power t**k, exp, cos, sin, cosh, sinh, Heaviside or DiracDelta of a linear argument"
+
+
+@lru_cache(maxsize=512)
+def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> InputTransform:
+    """Exact Laplace transform of a forcing input, one rational part per delay.
+
+    Parameters
+    ----------
+    f : sympy.Expr
+        The input, in :data:`laplace_springs.t` (see :func:`parse_forcing`).
+    entry : str
+        What the input is, for error messages.
+    s : sympy.Symbol, optional
+        The transform variable (default ``lambda``, the resolvent's variable).
+
+    Returns
+    -------
+    InputTransform
+
+    Raises
+    ------
+    SceneError
+        When f is not a sum of the supported products.
+
+    Notes
+    -----
+    Results are cached: scene construction, :func:`laplace_springs.solve` and
+    ``verify`` all ask for the same transforms.
+
+    Examples
+    --------
+    >>> s = sp.Symbol("s")
+    >>> input_transform(parse_forcing("10*cos(20*t)", "f"), "f", s).parts
+    ((0, 10*s/(s**2 + 400)),)
+    >>> input_transform(parse_forcing("exp(-t)*t**2", "f"), "f", s).parts
+    ((0, 2/(s**3 + 3*s**2 + 3*s + 1)),)
+    >>> input_transform(parse_forcing("DiracDelta(t - 2)", "f"), "f", s).parts
+    ((2, 1),)
+    """
+    if s is None:
+        s = lam
+    try:
+        atoms = [atom for term in sp.Add.make_args(sp.expand(f)) for atom in _term_atoms(term)]
+    except _Unsupported as exc:
+        why = exc.why or f"{exc.factor} is not {_KINDS}"
+        raise SceneError(f"{entry}: {f} is not supported: {why}") from None
+    by_delay: dict[sp.Expr, list[_Atom]] = {}
+    for atom in atoms:
+        by_delay.setdefault(atom.delay, []).append(atom)
+    parts = []
+    for tau in sorted(by_delay, key=float):
+        R = _real_rational(by_delay[tau], s)
+        if R != 0:
+            parts.append((tau, R))
+    return InputTransform(tuple(parts), s)
+
+
+def _linear(arg: sp.Expr, factor: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(c, d) with arg = c t + d, or _Unsupported."""
+    poly = sp.Poly(sp.expand(arg), t) if arg.has(t) else None
+    if poly is None or poly.degree() > 1 or any(c.has(t) for c in poly.all_coeffs()):
+        raise _Unsupported(factor, f"the argument of {factor} is not linear in t")
+    c, d = (poly.all_coeffs() + [0])[:2] if poly.degree() == 1 else (0, poly.all_coeffs()[0])
+    return sp.sympify(c), sp.sympify(d)
+
+
+def _switch_time(c: sp.Expr, d: sp.Expr, factor: sp.Expr) -> sp.Expr:
+    tau = -d / c
+    if not tau.is_number or not c.is_number:
+        raise _Unsupported(factor, f"the switching time of {factor} must be a number")
+    return sp.nsimplify(tau) if tau.is_Float else tau
+
+
+def _term_atoms(term: sp.Expr) -> list[_Atom]:
+    """Atoms of one product term."""
+    coefficient: sp.Expr = sp.S.One
+    power = 0
+    waves: list[list[tuple[sp.Expr, sp.Expr]]] = []  # each factor: alternatives (weight, z)
+    switches: list[list[tuple[int, sp.Expr]]] = []   # each factor: alternatives (sign, delay)
+    deltas: list[tuple[sp.Expr, sp.Expr]] = []       # (weight, time)
+    for factor in sp.Mul.make_args(term):
+        base, exponent = factor.as_base_exp()
+        if not factor.has(t):
+            coefficient *= factor
+        elif base == t and exponent.is_Integer and exponent >= 0:
+            power += int(exponent)
+        elif exponent.is_Integer and exponent > 0 and isinstance(base, _WAVES):
+            waves.extend([_wave(base)] * int(exponent))
+        elif isinstance(factor, _WAVES):
+            waves.append(_wave(factor))
+        elif isinstance(factor, sp.Heaviside):
+            switches.append(_switch(factor))
+        elif isinstance(factor, sp.DiracDelta):
+            deltas.append(_delta(factor))
+        else:
+            raise _Unsupported(factor)
+    if len(deltas) > 1:
+        raise _Unsupported(term, f"{term} multiplies impulses")
+    if deltas:
+        return _impulse_atoms(term, coefficient, power, waves, switches, deltas[0])
+    atoms = []
+    for switch in itertools.product(*switches):
+        sign = sp.Mul(*(sgn for sgn, _ in switch))
+        delay = max((d for _, d in switch), default=sp.S.Zero, key=float)
+        for wave in itertools.product(*waves):
+            weight = coefficient * sign * sp.Mul(*(w for w, _ in wave))
+            rate = sp.Add(*(z for _, z in wave))
+            atoms.extend(_shifted(weight, power, rate, delay))
+    return atoms
+
+
+def _wave(factor: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
+    """A factor e^{z}, cos, sin, cosh, sinh of a linear argument as Σ weight·e^{z t}."""
+    c, d = _linear(factor.args[0], factor)
+    if isinstance(factor, sp.exp):
+        return [(sp.exp(d), c)]
+    if isinstance(factor, sp.cosh):
+        return [(sp.exp(d) / 2, c), (sp.exp(-d) / 2, -c)]
+    if isinstance(factor, sp.sinh):
+        return [(sp.exp(d) / 2, c), (-sp.exp(-d) / 2, -c)]
+    i = sp.I
+    if isinstance(factor, sp.cos):
+        return [(sp.exp(i * d) / 2, i * c), (sp.exp(-i * d) / 2, -i * c)]
+    return [(sp.exp(i * d) / (2 * i), i * c), (-sp.exp(-i * d) / (2 * i), -i * c)]
+
+
+def _switch(factor: sp.Heaviside) -> list[tuple[int, sp.Expr]]:
+    """Heaviside(c t + d) for t > 0 as alternatives (sign, delay): Σ sign·H(t - delay)."""
+    c, d = _linear(factor.args[0], factor)
+    if c == 0:
+        raise _Unsupported(factor)
+    tau = _switch_time(c, d, factor)
+    if c.is_positive:
+        return [(1, max(tau, sp.S.Zero, key=float))]
+    if tau <= 0:
+        return []
+    return [(1, sp.S.Zero), (-1, tau)]
+
+
+def _delta(factor: sp.DiracDelta) -> tuple[sp.Expr, sp.Expr]:
+    """DiracDelta(c t + d) = δ(t - τ)/|c|, as (weight, τ)."""
+    if len(factor.args) > 1 and factor.args[1] != 0:
+        raise _Unsupported(factor, f"derivatives of impulses ({factor}) are not supported")
+    c, d = _linear(factor.args[0], factor)
+    if c == 0:
+        raise _Unsupported(factor)
+    return 1 / sp.Abs(c), _switch_time(c, d, factor)
+
+
+def _impulse_atoms(term, coefficient, power, waves, switches, delta) -> list[_Atom]:
+    """g(t)·δ(t - τ) = g(τ)·δ(t - τ): an atom of power -1 (transform e^{-sτ})."""
+    weight, tau = delta
+    if tau < 0:
+        return []
+    others = sp.Mul(*(f for f in sp.Mul.make_args(term)
+                      if f.has(t) and not isinstance(f, sp.DiracDelta)))
+    if switches:
+        raise _Unsupported(term, f"{term} multiplies an impulse by a step")
+    value = sp.simplify(coefficient * weight * others.subs(t, tau))
+    return [_Atom(value, -1, sp.S.Zero, tau)] if value != 0 else []
+
+
+def _shifted(weight: sp.Expr, power: int, rate: sp.Expr, delay: sp.Expr) -> list[_Atom]:
+    """c t^k e^{zt} H(t - τ) = e^{zτ} Σ_j C(k, j) τ^{k-j} (t-τ)^j e^{z(t-τ)} H(t - τ)."""
+    if delay == 0:
+        return [_Atom(weight, power, rate, delay)]
+    shift = weight * sp.exp(rate * delay)
+    return [_Atom(shift * comb(power, j) * delay ** (power - j), j, rate, delay)
+            for j in range(power + 1)]
+
+
+def _real_rational(atoms: list[_Atom], s: sp.Symbol) -> sp.Expr:
+    """Σ c k!/(s - z)^{k+1} (and c for impulses) as a real rational function of s.
+
+    Atoms come in conjugate pairs (the input is real); each pair (z, z̄) is written as
+    2 Re[c k! (s - z̄)^{k+1}] / ((s - Re z)² + (Im z)²)^{k+1}, so no ``I`` survives.
+    """
+    grouped: dict[tuple[sp.Expr, int], sp.Expr] = {}
+    for atom in atoms:
+        key = (sp.expand_complex(atom.rate), atom.power)
+        grouped[key] = grouped.get(key, sp.S.Zero) + atom.coefficient
+    total = sp.S.Zero
+    for (z, k), coefficient in grouped.items():
+        c = sp.expand_complex(coefficient)
+        if k < 0:
+            total += sp.re(c)
+            continue
+        a, b = z.as_real_imag()
+        if b == 0:
+            total += sp.re(c) * factorial(k) / (s - a) ** (k + 1)
+        elif not b.could_extract_minus_sign():
+            numerator = sp.Poly(sp.expand(c * factorial(k) * (s - a + sp.I * b) ** (k + 1)), s)
+            real = sp.Poly([2 * sp.expand_complex(q).as_real_imag()[0] for q in numerator.all_coeffs()], s)
+            total += real.as_expr() / ((s - a) ** 2 + b ** 2) ** (k + 1)
+    return sp.factor_terms(sp.cancel(sp.together(total)))
+
+
+def forcing_vector(values: Sequence[Any] | None, n: int) -> sp.ImmutableMatrix | None:
+    """Forcing entries (one per coordinate) as an exact column, or None when all zero."""
+    if values is None:
+        return None
+    if isinstance(values, (str, sp.Basic)) or not hasattr(values, "__len__"):
+        raise SceneError(f"forcing must be a sequence with one entry per coordinate, got {values!r}")
+    if len(values) != n:
+        raise SceneError(f"forcing has {len(values)} entries, expected {n} (one per coordinate)")
+    column = [parse_forcing(0 if v is None else v, f"forcing[{i}]") for i, v in enumerate(values)]
+    if all(entry == 0 for entry in column):
+        return None
+    return sp.ImmutableMatrix(column)

@@ -1,0 +1,276 @@
+"""Scene files: TOML descriptions of scenes, and the bundled scenes of the seed.
+
+A scene file describes a scene in one of three forms. Components::
+
+    title = "Two masses hanging from the ceiling"
+    layout = "vertical"
+    description = "free text"
+    [masses]
+    m1 = "1"
+    m2 = "1/2"
+    [springs]                      # label = [node_a, node_b, value]
+    k1 = ["ceiling", "m1", "2"]
+    k2 = ["m1", "m2", "1"]
+    [dashpots]
+    [initial]
+    x0 = ["1", "0"]                # or a table {m1 = "1"}
+    v0 = ["0", "1"]
+    [forcing]                      # optional: mass name = force in t (or an array)
+    m1 = "10*cos(20*t)"
+
+matrices (``[matrices]`` with ``M`` and optionally ``C``, ``K``), or the seed's
+normalised form (``[normalized]`` with ``A`` and optionally ``B``); both take
+``[initial]`` too and an optional top-level ``names`` array. Numbers may be TOML
+strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
+means ``1/5``); all go through :func:`laplace_springs.model.numbers.to_exact`, and no
+text is ever evaluated. Unknown keys are refused, to catch typos.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from collections.abc import Mapping
+from importlib import resources
+from importlib.resources.abc import Traversable
+from pathlib import Path
+from typing import Any
+
+from .errors import SceneError
+from .scene import Scene
+
+__all__ = ["bundled_scenes", "load_scene", "scene_from_toml_text"]
+
+_COMMON_KEYS = ("title", "layout", "description", "initial", "forcing")
+_FORMS = {
+    "masses": ("masses", "springs", "dashpots"),
+    "matrices": ("matrices", "names"),
+    "normalized": ("normalized", "names"),
+}
+_FORM_TABLES = {"matrices": ("M", "C", "K"), "normalized": ("A", "B")}
+_INITIAL_KEYS = ("x0", "v0")
+
+
+def _check_keys(table: Mapping[str, Any], allowed: tuple[str, ...], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            raise SceneError(f"unknown key {key!r} {where}; allowed keys: {', '.join(allowed)}")
+
+
+def _table(data: Mapping[str, Any], key: str) -> dict[str, Any]:
+    value = data.get(key, {})
+    if not isinstance(value, dict):
+        raise SceneError(f"{key!r} must be a table, like [{key}], got {value!r}")
+    return value
+
+
+def _text(data: Mapping[str, Any], key: str, default: str) -> str:
+    value = data.get(key, default)
+    if not isinstance(value, str):
+        raise SceneError(f"{key!r} must be a string, got {value!r}")
+    return value
+
+
+def _form_of(data: Mapping[str, Any]) -> str:
+    """Which of the three forms the file uses; exactly one must be present."""
+    present = [form for form in _FORMS if form in data]
+    if len(present) != 1:
+        found = ", ".join(f"[{form}]" for form in present) or "none"
+        raise SceneError("a scene file needs exactly one of [masses], [matrices], [normalized]; "
+                         f"found {found}")
+    form = present[0]
+    allowed = _COMMON_KEYS + _FORMS[form]
+    for key in data:
+        if any(key in keys for keys in _FORMS.values()) and key not in allowed:
+            raise SceneError(f"key {key!r} does not belong with [{form}]")
+    _check_keys(data, allowed, "at the top level")
+    return form
+
+
+def _scene_from_data(data: Mapping[str, Any]) -> Scene:
+    scene = _unforced_scene(data)
+    forcing = data.get("forcing")
+    if forcing is None:
+        return scene
+    if not isinstance(forcing, (list, dict)):
+        raise SceneError(f"'forcing' must be an array (one entry per coordinate) or a table "
+                         f"(mass name = expression), got {forcing!r}")
+    return scene.with_forcing(forcing)
+
+
+def _unforced_scene(data: Mapping[str, Any]) -> Scene:
+    form = _form_of(data)
+    initial = _table(data, "initial")
+    _check_keys(initial, _INITIAL_KEYS, "in [initial]")
+    common = {"title": _text(data, "title", ""), "layout": _text(data, "layout", "horizontal")}
+    _text(data, "description", "")  # checked only: free text, not part of a Scene
+    if form == "masses":
+        return Scene.from_components(
+            masses=_table(data, "masses"),
+            springs=_table(data, "springs"),
+            dashpots=_table(data, "dashpots"),
+            x0=initial.get("x0"),
+            v0=initial.get("v0"),
+            **common,
+        )
+    matrices = _table(data, form)
+    _check_keys(matrices, _FORM_TABLES[form], f"in [{form}]")
+    required = _FORM_TABLES[form][0]
+    if required not in matrices:
+        raise SceneError(f"[{form}] needs {required}")
+    zeros = [0] * len(matrices[required]) if isinstance(matrices[required], list) else None
+    arguments = {
+        "x0": initial.get("x0", zeros),
+        "v0": initial.get("v0", zeros),
+        "names": _names(data),
+        **common,
+    }
+    if form == "matrices":
+        return Scene.from_matrices(**matrices, **arguments)
+    return Scene.from_normalized(**matrices, **arguments)
+
+
+def _names(data: Mapping[str, Any]) -> list[str] | None:
+    names = data.get("names")
+    if names is not None and not (isinstance(names, list) and all(isinstance(name, str) for name in names)):
+        raise SceneError(f"'names' must be an array of strings, got {names!r}")
+    return names
+
+
+def scene_from_toml_text(text: str, source: str = "<string>") -> Scene:
+    """A scene from the text of a TOML scene file.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text (see the module documentation for the format).
+    source : str, optional
+        Where the text comes from, for error messages (a file name).
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        For malformed TOML (with tomllib's line and column), unknown keys, and
+        every error of the scene builders; the message starts with ``source``.
+
+    Examples
+    --------
+    >>> scene = scene_from_toml_text('''
+    ... title = "One mass on a wall spring"
+    ... [masses]
+    ... m1 = 2
+    ... [springs]
+    ... k1 = ["wall", "m1", 0.5]
+    ... [initial]
+    ... x0 = {m1 = "1/10"}
+    ... ''')
+    >>> scene
+    <Scene 'One mass on a wall spring': 1 coordinate, undamped>
+    >>> scene.K, scene.x0
+    (Matrix([[1/2]]), Matrix([[1/10]]))
+    >>> scene_from_toml_text('titel = "typo"\\n[masses]\\nm1 = 1', source="typo.toml")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: typo.toml: unknown key 'titel' at the top level; allowed keys: ...
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{source}: malformed TOML: {exc}") from None
+    try:
+        return _scene_from_data(data)
+    except SceneError as exc:
+        raise SceneError(f"{source}: {exc}") from None
+
+
+def _scenes_folder() -> Traversable:
+    return resources.files("laplace_springs") / "scenes"
+
+
+def _bundled_files() -> dict[str, Traversable]:
+    """Bundled scene files by scene name, sorted by name."""
+    files = {entry.name.removesuffix(".toml"): entry for entry in _scenes_folder().iterdir()
+             if entry.name.endswith(".toml")}
+    return dict(sorted(files.items()))
+
+
+def bundled_scenes() -> dict[str, str]:
+    """The bundled scenes: name -> title, sorted by name.
+
+    Examples
+    --------
+    >>> scenes = bundled_scenes()
+    >>> list(scenes)
+    ['three-dashpots', 'vertical-pair', 'vertical-pair-damped', 'wall-pair', 'wall-pair-dashpot']
+    >>> scenes["vertical-pair"]
+    'Example 1: two masses hanging from the ceiling'
+    """
+    return {
+        name: _text(tomllib.loads(entry.read_text(encoding="utf-8")), "title", "")
+        for name, entry in _bundled_files().items()
+    }
+
+
+def _looks_like_path(name_or_path: str | os.PathLike[str]) -> bool:
+    if isinstance(name_or_path, os.PathLike):
+        return True
+    return name_or_path.endswith(".toml") or "/" in name_or_path or os.sep in name_or_path
+
+
+def _read_path(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not UTF-8 text: {exc}") from None
+
+
+def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
+    """Load a bundled scene by name, or a scene file by path.
+
+    Parameters
+    ----------
+    name_or_path : str or os.PathLike
+        A bundled scene name (see :func:`bundled_scenes`), or the path of a
+        TOML scene file (a path-like object, or text ending in ``.toml`` or
+        containing a path separator).
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        For an unknown name (the message lists the bundled ones), an unreadable
+        file, or any error in the file.
+
+    Examples
+    --------
+    >>> scene = load_scene("vertical-pair")
+    >>> scene.normalized()[0]
+    Matrix([
+    [ 3, -1],
+    [-2,  2]])
+    >>> load_scene("no-such-scene")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: unknown scene 'no-such-scene'; bundled scenes: three-dashpots, ...
+    """
+    if _looks_like_path(name_or_path):
+        path = Path(name_or_path)
+        return scene_from_toml_text(_read_path(path), source=str(path))
+    files = _bundled_files()
+    if name_or_path not in files:
+        raise SceneError(
+            f"unknown scene {name_or_path!r}; bundled scenes: {', '.join(files)} "
+            f"(or give the path of a .toml file)"
+        )
+    return scene_from_toml_text(
+        files[name_or_path].read_text(encoding="utf-8"), source=f"{name_or_path}.toml"
+    )

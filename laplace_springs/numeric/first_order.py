@@ -1,0 +1,227 @@
+"""A scene's numbers for the numeric routes: float arrays, the exact first-order system,
+and the exact split of rigid-body motion.
+
+Every numeric route starts here, from the scene's exact data:
+
+* :func:`scene_arrays` gives M, C, K, x0, v0 as float64 (or a :class:`SceneError` that
+  names the symbolic or out-of-range entry);
+* :func:`first_order_system` gives the exact y' = Z y, y(0) = y0 whose first n entries are
+  x, with massless nodes held by dashpots reduced (their velocities follow from their
+  equations);
+* :func:`rigid_split` separates the rigid-body motion (K r = C r = 0) exactly, so that the
+  rest of the motion has no zero eigenvalue.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+from flint import fmpq, fmpq_mat, fmpz_mat
+
+from ..model.errors import SceneError
+from ..model.scene import Scene
+
+__all__ = ["float_matrix", "scene_arrays", "massless_nodes", "first_order_system", "RigidSplit",
+           "rigid_split", "is_rational", "has_first_order_form"]
+
+
+def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
+    """An exact numeric matrix as float64, or a SceneError naming the first bad entry.
+
+    Examples
+    --------
+    >>> float_matrix(sp.Matrix([[1, sp.Rational(1, 4)]]), "K")
+    array([[1.  , 0.25]])
+    >>> float_matrix(sp.Matrix([[sp.Symbol("k")]]), "K")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: K[0,0] = k is symbolic; give numbers for a numeric evaluation
+    """
+    out = np.zeros(matrix.shape)
+    for (i, j), entry in matrix.todok().items():
+        if entry.free_symbols:
+            raise SceneError(f"{name}[{i},{j}] = {entry} is symbolic; give numbers for a "
+                             "numeric evaluation")
+        try:
+            out[i, j] = float(entry)
+        except (TypeError, OverflowError, ValueError):
+            raise SceneError(f"{name}[{i},{j}] = {entry} has no float64 value") from None
+        if not np.isfinite(out[i, j]):
+            raise SceneError(f"{name}[{i},{j}] = {entry} is beyond the float64 range")
+    return out
+
+
+def scene_arrays(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(M, C, K, x0, v0) of a numeric scene as float64 arrays (x0, v0 flat).
+
+    Examples
+    --------
+    >>> M, C, K, x0, v0 = scene_arrays(Scene.from_matrices(M=[[2]], K=[[8]], x0=[1], v0=[0]))
+    >>> M, K, x0
+    (array([[2.]]), array([[8.]]), array([1.]))
+    """
+    M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
+    x0, v0 = (float_matrix(getattr(scene, name).T, name).ravel() for name in ("x0", "v0"))
+    return M, C, K, x0, v0
+
+
+def massless_nodes(scene: Scene) -> list[int]:
+    """Indices whose row and column of M are zero (massless nodes)."""
+    touched = {index for key in scene.M.todok() for index in key}
+    return [i for i in range(scene.n) if i not in touched]
+
+
+def is_rational(scene: Scene) -> bool:
+    """Whether every entry of M, C, K, x0 and v0 is a rational number."""
+    return all(e.is_Rational for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m)
+
+
+def first_order_system(scene: Scene) -> tuple[sp.Matrix, sp.Matrix, list[int]]:
+    """Exact y' = Z y, y(0) = y0 whose first n entries are x, for a numeric scene.
+
+    With invertible M this is Z = [[0, I], [-M⁻¹K, -M⁻¹C]], y = [x; x'].
+    Massless nodes (indices z whose row and column of M are zero) are reduced: their
+    velocity follows from their equations, C_zz x_z' = -(K x)_z - C_zm x_m', so the
+    state is y = [x; x_m'] with the massive velocities m only (Maxwell elements and other
+    nodes held by a dashpot). Their given v0 entries play no role, as in X(λ).
+
+    Returns
+    -------
+    Z, y0 : sympy.Matrix
+        Exact.
+    massive : list of int
+        The coordinates whose velocities are state entries n, n + 1, ...
+
+    Raises
+    ------
+    SceneError
+        For massless nodes without an invertible dashpot block C_zz, or a singular mass
+        block on the other nodes.
+
+    Examples
+    --------
+    >>> Z, y0, massive = first_order_system(Scene.from_matrices(M=[[2]], C=[[1]], K=[[8]],
+    ...                                                         x0=[1], v0=[3]))
+    >>> Z, y0.T, massive
+    (Matrix([
+    [ 0,    1],
+    [-4, -1/2]]), Matrix([[1, 3]]), [0])
+    """
+    M, C, K = (sp.Matrix(m) for m in (scene.M, scene.C, scene.K))
+    n = scene.n
+    z = massless_nodes(scene)
+    m = [i for i in range(n) if i not in z]
+    everything = list(range(n))
+    try:
+        Mmm_inv = M.extract(m, m).inv() if m else sp.zeros(0, 0)
+        Czz_inv = C.extract(z, z).inv() if z else sp.zeros(0, 0)
+    except ValueError:  # SymPy: "Matrix det == 0; not invertible."
+        raise SceneError("the first-order form needs an invertible mass block and, for "
+                         f"massless nodes {z}, an invertible dashpot block on them") from None
+    P = -Czz_inv * K.extract(z, everything)          # x_z' = P x + Q v_m
+    Q = -Czz_inv * C.extract(z, m)
+    Cmz = C.extract(m, z)
+    Avel = -Mmm_inv * (K.extract(m, everything) + Cmz * P)   # v_m' = Avel x + Bvel v_m
+    Bvel = -Mmm_inv * (C.extract(m, m) + Cmz * Q)
+    size = n + len(m)
+    Z = sp.zeros(size, size)
+    for row, i in enumerate(m):
+        Z[i, n + row] = 1
+    for row, i in enumerate(z):
+        Z[i, :n], Z[i, n:] = P[row, :], Q[row, :]
+    Z[n:, :n], Z[n:, n:] = Avel, Bvel
+    y0 = sp.Matrix([*scene.x0, *[scene.v0[i] for i in m]])
+    return Z, y0, m
+
+
+@dataclass(frozen=True, eq=False)
+class RigidSplit:
+    """x(t) = lift·q(t) + offset + slope·t, q the motion of the scene ``inner`` (exact).
+
+    ``inner`` has no rigid-body motion: its K and C have no common null vector.
+    """
+    inner: Scene
+    lift: sp.Matrix
+    offset: sp.Matrix
+    slope: sp.Matrix
+
+
+def _nullspace(rows: sp.Matrix) -> sp.Matrix:
+    """An exact basis (columns) of {y : rows·y = 0}, by python-flint's integer nullspace."""
+    integer = []
+    for i in range(rows.rows):
+        scale = sp.ilcm(*[sp.Rational(e).q for e in rows.row(i)], 1)
+        integer.append([int(e * scale) for e in rows.row(i)])
+    basis, rank = fmpz_mat(integer).nullspace()
+    return sp.Matrix([[int(basis[i, j]) for j in range(rank)] for i in range(rows.cols)])
+
+
+def rigid_split(scene: Scene) -> RigidSplit | None:
+    """Split off the rigid-body motion (K r = C r = 0) exactly; None if there is none.
+
+    With N the left null vectors of K and C, Nᵀ M x(t) = Nᵀ M (x0 + v0 t) fixes the rigid
+    part, and the rest moves in the complement Q = ker(Nᵀ M) as the smaller scene
+    (QᵀMQ, QᵀCQ, QᵀKQ). Also None for massless nodes, symbolic or irrational entries,
+    or when the complement's mass matrix is singular (then the split would not be a scene).
+
+    Examples
+    --------
+    Two free masses joined by a spring: the centre of mass drifts at the mean velocity.
+
+    >>> split = rigid_split(Scene.from_matrices(M=[[1, 0], [0, 1]], K=[[1, -1], [-1, 1]],
+    ...                                         x0=[1, 0], v0=[0, 2]))
+    >>> split.offset.T, split.slope.T, split.inner.M
+    (Matrix([[1/2, 1/2]]), Matrix([[1, 1]]), Matrix([[2]]))
+    """
+    if not is_rational(scene) or scene.M.det() == 0:
+        return None
+    right = _nullspace(scene.K.col_join(scene.C))
+    if right.cols == 0:
+        return None
+    left = _nullspace(scene.K.T.col_join(scene.C.T))
+    lift = _nullspace(left.T * scene.M)
+    fixed = left.T * scene.M * right
+    if left.cols != right.cols or fixed.det() == 0 or lift.cols == 0:
+        return None
+    inner_mass = lift.T * scene.M * lift
+    if inner_mass.det() == 0:
+        return None
+    solve = fixed.inv() * left.T * scene.M
+    offset, slope = right * solve * scene.x0, right * solve * scene.v0
+    pseudo = (lift.T * lift).inv() * lift.T
+    q0, dq0 = pseudo * (scene.x0 - offset), pseudo * (scene.v0 - slope)
+    if lift * q0 != scene.x0 - offset or lift * dq0 != scene.v0 - slope:
+        return None
+    inner = Scene.from_matrices(M=inner_mass, C=lift.T * scene.C * lift, K=lift.T * scene.K * lift,
+                                x0=list(q0), v0=list(dq0))
+    return RigidSplit(inner, lift, offset, slope)
+
+
+def has_first_order_form(scene: Scene) -> bool:
+    """Whether y' = Z y exists: the massive block of M invertible and, for massless nodes,
+    the dashpot block on them invertible (numeric entries; exact tests).
+
+    Examples
+    --------
+    >>> has_first_order_form(Scene.from_matrices(M=[[1, 0], [0, 0]], K=[[2, -1], [-1, 1]],
+    ...                                          x0=[0, 0], v0=[0, 0]))
+    False
+    """
+    if scene.free_symbols:
+        return False
+    z = massless_nodes(scene)
+    m = [i for i in range(scene.n) if i not in z]
+    return _invertible(scene.M.extract(m, m)) and (not z or _invertible(scene.C.extract(z, z)))
+
+
+def _invertible(matrix: sp.MatrixBase) -> bool:
+    if matrix.rows == 0:
+        return True
+    if matrix.is_diagonal():
+        return all(matrix[i, i] != 0 for i in range(matrix.rows))
+    if all(e.is_Rational for e in matrix):
+
+        return fmpq_mat(matrix.rows, matrix.cols, [fmpq(int(e.p), int(e.q)) for e in matrix]).det() != 0
+    return bool(matrix.det() != 0)

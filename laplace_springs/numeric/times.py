@@ -1,0 +1,185 @@
+"""Evaluation times: validated once, held exactly, converted lazily.
+
+A time given as a float is the number that float holds (``0.1`` is
+0.1000000000000000055511151231257827…), exactly as float arithmetic would use it; a
+string (``"0.1"``), a :class:`fractions.Fraction` or a SymPy rational is used exactly.
+Every route reads the same value: the float64 kernels as a double-double
+(``hi + lo``), the high-precision ones as an exact rational. A value therefore never
+depends on the route that evaluates it, even at phases ωt of 10³⁰.
+
+Times must be finite and t ≥ 0: the solutions hold for t ≥ 0 (forcing and jumps are
+stated from t = 0 on).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from ..model.errors import SceneError
+from ..model.numbers import to_exact
+
+__all__ = ["Times", "as_times", "check_dps", "MAX_DPS"]
+
+#: Largest number of decimal digits ``evaluate(..., dps=)`` accepts.
+MAX_DPS = 10_000
+
+
+@dataclass(frozen=True, eq=False)
+class Times:
+    """Times as float64 double-doubles ``hi + lo`` and, on demand, exact rationals.
+
+    Attributes
+    ----------
+    hi, lo : numpy.ndarray
+        float64; ``hi`` is the nearest float to each time, ``lo`` the remainder (zero
+        for float input).
+    given : tuple
+        The values as given (kept to form exact rationals lazily).
+    """
+
+    hi: np.ndarray
+    lo: np.ndarray
+    given: tuple = field(repr=False)
+
+    def __len__(self) -> int:
+        return int(self.hi.size)
+
+    def exact(self, index: int) -> Fraction:
+        """Time ``index`` as an exact rational."""
+        return _exact(self.given[index]) if self.given else Fraction(float(self.hi[index]))
+
+    def subset(self, columns: np.ndarray) -> Times:
+        """The times at the given column indices."""
+        columns = np.asarray(columns, dtype=int)
+        given = tuple(self.given[int(c)] for c in columns) if self.given else ()
+        return Times(self.hi[columns], self.lo[columns], given)
+
+    def mpf(self, index: int) -> mpmath.mpf:
+        """Time ``index`` as an mpf at the current mpmath precision."""
+        value = self.exact(index)
+        return mpmath.mpf(value.numerator) / value.denominator
+
+
+def _exact(value: object) -> Fraction:
+    if isinstance(value, Fraction):
+        return value
+    if isinstance(value, (float, np.floating)):
+        return Fraction(float(value))
+    if isinstance(value, (int, np.integer)):
+        return Fraction(int(value))
+    if isinstance(value, mpmath.mpf):
+        sign, man, exp, _ = value._mpf_
+        return Fraction(-man if sign else man) * Fraction(2) ** exp
+    if isinstance(value, sp.Rational):
+        return Fraction(int(value.p), int(value.q))
+    if isinstance(value, sp.Basic):  # an irrational number: 120 digits of it
+        with mpmath.workdps(120):
+            return _exact(mpmath.mpf(sp.Float(value, 120)._mpf_))
+    raise TypeError(value)
+
+
+def _convert(value: object, index: int) -> object:
+    """One time as a float or an exact number, or a ValueError naming it."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"times[{index}] must be a number, got {value!r}")
+    if isinstance(value, str):
+        try:
+            value = to_exact(value, f"times[{index}]")
+        except SceneError as exc:
+            raise ValueError(str(exc)) from None
+    if isinstance(value, sp.Basic):
+        if not (isinstance(value, sp.Expr) and value.is_number and value.is_extended_real):
+            raise ValueError(f"times[{index}] must be a real number, got {value!r}")
+        if value.is_Float:
+            value = sp.Rational(value)
+    elif isinstance(value, mpmath.mpf):
+        if not mpmath.isfinite(value):
+            raise ValueError(f"times[{index}] must be finite, got {value}")
+    elif isinstance(value, numbers.Real):
+        if not math.isfinite(float(value)):
+            raise ValueError(f"times[{index}] must be finite, got {value!r}")
+    else:
+        raise ValueError(f"times[{index}] must be a number, got {value!r}")
+    return value
+
+
+def _float_pair(value: object) -> tuple[float, float]:
+    if isinstance(value, (float, int, np.floating, np.integer)):
+        return float(value), 0.0
+    exact = _exact(value)
+    hi = float(exact)
+    return hi, float(exact - Fraction(hi)) if math.isfinite(hi) else 0.0
+
+
+def as_times(times: object) -> Times:
+    """Validate evaluation times (a scalar is one time).
+
+    Raises
+    ------
+    ValueError
+        For NaN, an infinity, a negative time or a non-number, naming the entry.
+
+    Examples
+    --------
+    >>> T = as_times([0, 0.5, "0.1"])
+    >>> T.hi.tolist(), T.lo[2] != 0, T.exact(2)
+    ([0.0, 0.5, 0.1], True, Fraction(1, 10))
+    >>> as_times([1.0, float("nan")])
+    Traceback (most recent call last):
+    ...
+    ValueError: times[1] must be finite, got nan
+    """
+    if isinstance(times, np.ndarray) and times.dtype.kind in "fiu":
+        hi = np.atleast_1d(times).astype(float).ravel()
+        bad = np.flatnonzero(~np.isfinite(hi) | (hi < 0))
+        if bad.size:
+            _refuse(int(bad[0]), hi[bad[0]])
+        return Times(hi, np.zeros_like(hi), ())
+    values = list(np.atleast_1d(np.asarray(times, dtype=object)).ravel()) \
+        if not isinstance(times, (str, bytes)) else [times]
+    converted = [_convert(v, i) for i, v in enumerate(values)]
+    pairs = [_float_pair(v) for v in converted]
+    hi = np.array([p[0] for p in pairs], dtype=float)
+    lo = np.array([p[1] for p in pairs], dtype=float)
+    for i, v in enumerate(converted):
+        if _negative(v):
+            _refuse(i, values[i])
+    if not np.all(np.isfinite(hi)):
+        i = int(np.flatnonzero(~np.isfinite(hi))[0])
+        raise ValueError(f"times[{i}] = {values[i]} is beyond the float64 range")
+    return Times(hi, lo, tuple(converted))
+
+
+def _negative(value: object) -> bool:
+    if isinstance(value, sp.Basic):
+        return bool(value < 0)
+    return bool(value < 0)  # type: ignore[operator]
+
+
+def _refuse(index: int, value: object) -> None:
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"times[{index}] must be finite, got {value!r}")
+    raise ValueError(f"times[{index}] = {value!r} is negative; the motion is stated for t >= 0")
+
+
+def check_dps(dps: object) -> int:
+    """``dps`` as an int in 1..MAX_DPS, or a ValueError naming it.
+
+    >>> check_dps(30)
+    30
+    >>> check_dps(0)
+    Traceback (most recent call last):
+    ...
+    ValueError: dps must be an integer from 1 to 10000 (decimal digits), got 0
+    """
+    if isinstance(dps, (bool, np.bool_)) or not isinstance(dps, (int, np.integer)) \
+            or not 1 <= int(dps) <= MAX_DPS:
+        raise ValueError(f"dps must be an integer from 1 to {MAX_DPS} (decimal digits), got {dps!r}")
+    return int(dps)

@@ -1,0 +1,553 @@
+"""LaTeX for solutions and resolvents: fragments, Markdown snippets, standalone documents.
+
+The solution is written the way the seed writes it: each x_i(t) as damped sines and
+cosines (or, on request, through the g-functions g_k(t) = L⁻¹[λ^k/Δ(λ)]), followed by
+a "where" list of everything named in it.
+
+Conventions (what the output never contains, and what it uses instead):
+
+- **No imaginary unit.** Results are real. A complex root of an irreducible factor of
+  degree ≥ 3 appears through two real named constants α_j, β_j, stated as
+  "(λ − α_j)² + β_j² is a factor of P(λ)" with their numeric values; a real one as r_j,
+  "a root of P(λ)". Coefficients built from them are named c_j, with their exact
+  value (a polynomial in α_j, β_j, r_j) and a numeric value. No ``CRootOf`` text.
+- **Named quantities** of symbolic scenes (ω_j, γ_j, S_j, P_j, see
+  :mod:`laplace_springs.exact.named`) are listed with their definitions.
+- **Switched-on pieces.** Solutions hold for t ≥ 0, so a unit step at 0 is dropped; a
+  step at τ > 0 prints as θ(t − τ), the unit step (θ(s) = 1 for s ≥ 0, 0 for s < 0),
+  and the "where" list says so. Never ``\\operatorname{Heaviside}``.
+- A symbol directly followed by a parenthesis gets an explicit ``\\cdot``
+  (``d_{1} \\cdot \\left(...\\right)``), so that the formula cannot be read back as a
+  function call d₁(...).
+
+Three shapes of output: a math fragment (one ``aligned`` block per part, to put in
+display math), a Markdown snippet (each block between ``$$`` lines) and a standalone
+``article`` document that compiles with pdflatex (amsmath only).
+
+Examples
+--------
+>>> import laplace_springs as ls
+>>> print(solution_latex(ls.solve(ls.load_scene("vertical-pair"))))
+\\begin{aligned}
+x_{1}(t) &= \\frac{\\cos{\\left(t \\right)}}{3} + \\frac{\\sin{\\left(t \\right)}}{3} + \\frac{2 \\cos{\\left(2 t \\right)}}{3} - \\frac{\\sin{\\left(2 t \\right)}}{6} \\\\
+x_{2}(t) &= \\frac{2 \\cos{\\left(t \\right)}}{3} + \\frac{2 \\sin{\\left(t \\right)}}{3} - \\frac{2 \\cos{\\left(2 t \\right)}}{3} + \\frac{\\sin{\\left(2 t \\right)}}{6}
+\\end{aligned}
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Literal
+
+import sympy as sp
+from sympy.printing.latex import LatexPrinter
+
+from ..exact.algebraic import numeric_value
+from ..exact.assembly import ExactMotion
+from ..exact.named import definitions, named, named_quantities
+from ..exact.resolvent import Resolvent
+from ..exact.sylvester import matrix_function_terms, sylvester_matrices
+from ..model.scene import Scene
+from ..model.symbols import TIME
+
+__all__ = ["LatexWriter", "solution_latex", "resolvent_latex", "sylvester_latex", "matrix_latex",
+           "as_markdown", "as_document", "latex_name"]
+
+Output = Literal["fragment", "markdown", "document"]
+
+#: Continue an equation on a new line once its right-hand side is this long.
+LINE_WIDTH = 160
+#: Significant digits of the numeric values in the "where" list.
+DIGITS = 12
+
+_STEP = sp.Function("theta")
+
+
+# ---------------------------------------------------------------------------
+# printing
+# ---------------------------------------------------------------------------
+class _Printer(LatexPrinter):
+    """SymPy's LaTeX printer with the conventions of this module."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        return sorted(super()._as_ordered_terms(expr, order=order), key=_reading_order)
+
+    def _print_Heaviside(self, expr, exp=None):
+        tex = rf"\theta\left({self._print(expr.args[0])}\right)"
+        return f"{tex}^{{{exp}}}" if exp else tex
+
+    def _print_ImaginaryUnit(self, expr):  # only complex matrices (e^{Bt} projectors)
+        return r"\mathrm{j}"
+
+
+_CALL_LIKE = re.compile(r"(?<=[A-Za-z}])( +)\\left\(")
+
+
+def latex_name(name: str) -> str:
+    """A coordinate or parameter name in LaTeX: ``x1`` → ``x_{1}``, ``delta2`` → ``\\delta_{2}``.
+
+    >>> latex_name("x1"), latex_name("delta2"), latex_name("m")
+    ('x_{1}', '\\\\delta_{2}', 'm')
+    """
+    return sp.latex(sp.Symbol(name))
+
+
+def _tex(expr) -> str:
+    """One expression in LaTeX, with ``\\cdot`` before a parenthesis after a symbol."""
+    text = _Printer({"mat_str": "bmatrix", "mat_delim": ""}).doprint(expr)
+    return _CALL_LIKE.sub(r" \\cdot \\left(", text)
+
+
+def _rhs_lines(expr: sp.Expr, width: int = LINE_WIDTH) -> list[str]:
+    """The right-hand side split at top-level + and − into lines of about ``width``."""
+    printer = _Printer()
+    if not isinstance(expr, sp.Add):
+        return [_tex(expr)]
+    pieces = []
+    for i, term in enumerate(printer._as_ordered_terms(expr)):
+        sign = "+ " if i else ""
+        shown = term
+        if term.could_extract_minus_sign():
+            sign, shown = "- ", -term
+        text = _tex(shown)
+        if printer._needs_add_brackets(shown):
+            text = rf"\left({text}\right)"
+        pieces.append(sign + text)
+    lines, current = [], ""
+    for piece in pieces:
+        if current and len(current) + len(piece) > width:
+            lines.append(current)
+            current = piece
+        else:
+            current = f"{current} {piece}" if current else piece
+    return lines + [current]
+
+
+def _argument_key(arg: sp.Expr) -> tuple:
+    at_one = arg.subs(TIME, 1)
+    if at_one.is_number:
+        value = complex(sp.N(at_one))
+        return (0, abs(value.real), abs(value.imag), "")
+    return (1, 0.0, 0.0, sp.sstr(arg))
+
+
+def _reading_order(term: sp.Expr) -> tuple:
+    """Terms of one mode together, slowest first, cos before sin, in rising powers of t."""
+    waves = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.cos, sp.sin, sp.cosh, sp.sinh))
+    rates = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.exp))
+    kind = 0 if term.has(sp.cos, sp.cosh) else 1
+    power = sp.degree(term, TIME) if (waves or rates) and term.is_polynomial(TIME) else 0
+    return (tuple(waves), tuple(rates), kind, power)
+
+
+def _equation_rows(lhs: str, expr: sp.Expr) -> list[str]:
+    """``lhs &= ...`` and ``&\\quad + ...`` continuation rows of an aligned block."""
+    parts = _rhs_lines(expr)
+    return [f"{lhs} &= {parts[0]}"] + [rf"&\quad {part}" for part in parts[1:]]
+
+
+def _poly_tex(poly: sp.Poly) -> str:
+    """A polynomial in descending powers of its variable, coefficients as simple fractions."""
+    var = poly.gen
+    terms = [(_simple(c) * var**k) for (k,), c in poly.as_expr().as_poly(var).terms()]
+    return _Printer({"order": "none"}).doprint(sp.Add(*terms, evaluate=False))
+
+
+def _simple(expr: sp.Expr) -> sp.Expr:
+    expr = sp.factor(expr)
+    return expr
+
+
+@lru_cache(maxsize=64)
+def _g_function(k: int) -> sp.Expr:
+    """g_k(t) as an unevaluated function of t that prints as ``g_{k}(t)``."""
+    cls = type(f"g_{k}", (sp.Function,), {"_latex": lambda self, printer, exp=None: f"g_{{{k}}}(t)"})
+    return cls(TIME)
+
+
+def _aligned(rows: Sequence[str]) -> str:
+    return "\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}"
+
+
+# ---------------------------------------------------------------------------
+# named constants for algebraic numbers
+# ---------------------------------------------------------------------------
+def _number(value: sp.Expr, digits: int = DIGITS) -> str:
+    """A real number in LaTeX with ``digits`` significant digits (no exponent letters)."""
+    x = float(sp.re(numeric_value(value, digits + 5)))
+    text = f"{x:.{digits}g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        return rf"{mantissa} \cdot 10^{{{int(exponent)}}}"
+    return text
+
+
+@dataclass
+class _Constants:
+    """Names for algebraic numbers (α_j, β_j, r_j) and for coefficients built on them."""
+
+    roots: dict[sp.Expr, tuple[sp.Symbol, ...]] = field(default_factory=dict)
+    coefficients: dict[sp.Expr, sp.Symbol] = field(default_factory=dict)
+    values: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
+
+    def register_roots(self, exprs: Sequence[sp.Expr]) -> None:
+        found = set().union(*(sp.sympify(e).atoms(sp.CRootOf) for e in exprs)) if exprs else set()
+        count = len(self.roots)
+        for root in sorted(found - set(self.roots), key=_root_order):
+            count += 1
+            if _is_real_root(root):
+                names = (sp.Symbol(f"r_{count}", real=True),)
+                self.values[names[0]] = root
+            else:
+                names = (sp.Symbol(f"alpha_{count}", real=True), sp.Symbol(f"beta_{count}", real=True))
+                self.values[names[0]], self.values[names[1]] = sp.re(root), sp.im(root)
+            self.roots[root] = names
+
+    def _root_map(self) -> dict:
+        out = {}
+        for root, names in self.roots.items():
+            if len(names) == 1:
+                out[root] = names[0]
+            else:
+                out[sp.re(root)], out[sp.im(root)] = names
+                out[root] = names[0] + sp.I * names[1]
+        return out
+
+    def replace(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with coefficients on algebraic numbers named, roots replaced by names."""
+        expr = sp.sympify(expr)
+        if not expr.has(sp.CRootOf):
+            return expr
+        return self._name_coefficients(expr).xreplace(self._root_map())
+
+    def _name_coefficients(self, expr: sp.Expr) -> sp.Expr:
+        if not expr.has(sp.CRootOf):
+            return expr
+        if isinstance(expr, sp.Add):
+            return sp.Add(*(self._name_coefficients(a) for a in sorted(expr.args, key=_reading_order)))
+        if isinstance(expr, sp.Mul):
+            timed = [a for a in expr.args if a.has(TIME)]
+            constant = sp.Mul(*(a for a in expr.args if not a.has(TIME)))
+            return self._constant(constant) * sp.Mul(*(self._name_coefficients(a) for a in timed))
+        if expr.has(TIME):
+            return expr  # exp(α t), cos(β t): the root inside is renamed afterwards
+        return self._constant(expr)
+
+    def _constant(self, expr: sp.Expr) -> sp.Expr:
+        """Name the algebraic coefficient(s) of a time-independent factor."""
+        if not expr.has(sp.CRootOf) or _is_bare_root_part(expr):
+            return expr
+        symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+        if symbols:  # symbolic initial data: name the coefficient of each symbol
+            parts = sp.collect(sp.expand(expr), symbols, evaluate=False)
+            return sp.Add(*(self._constant(c) * m for m, c in parts.items()))
+        if expr not in self.coefficients:
+            name = sp.Symbol(f"c_{len(self.coefficients) + 1}", real=True)
+            self.coefficients[expr] = name
+            self.values[name] = expr
+        return self.coefficients[expr]
+
+    def rows(self) -> list[str]:
+        """The "where" rows: roots first, then the named coefficients."""
+        rows = []
+        for root, names in self.roots.items():
+            poly = _poly_tex(sp.Poly(root.poly.as_expr(), root.poly.gen))
+            if len(names) == 1:
+                rows.append(rf"{_tex(names[0])} &\approx {_number(root)} "
+                            rf"\quad \text{{(a root of }} {poly}\text{{)}}")
+            else:
+                alpha, beta = names
+                rows.append(rf"{_tex(alpha)} &\approx {_number(sp.re(root))}, \quad "
+                            rf"{_tex(beta)} \approx {_number(sp.im(root))}")
+                rows.append(rf"&\quad \text{{(}}\left(\lambda - {_tex(alpha)}\right)^{{2}} + "
+                            rf"{_tex(beta)}^{{2}} \text{{ is a factor of }} {poly}\text{{)}}")
+        mapping = self._root_map()
+        for expr, name in self.coefficients.items():
+            rows += _equation_rows(_tex(name), expr.xreplace(mapping))
+            rows[-1] += rf" \approx {_number(expr)}"
+        return rows
+
+
+def _root_order(root: sp.CRootOf) -> tuple:
+    value = complex(numeric_value(root, 20))
+    return (value.imag != 0, abs(value.imag), value.real, str(root.poly.as_expr()))
+
+
+def _is_real_root(root: sp.CRootOf) -> bool:
+    return bool(root.is_real)
+
+
+def _is_bare_root_part(expr: sp.Expr) -> bool:
+    """re(r), im(r), r itself or a rational multiple: shown through the root's names."""
+    core = expr.as_coeff_Mul()[1]
+    return isinstance(core, (sp.re, sp.im, sp.CRootOf))
+
+
+# ---------------------------------------------------------------------------
+# the writer
+# ---------------------------------------------------------------------------
+@dataclass
+class LatexWriter:
+    """Collects aligned blocks and the names they use; renders them in one of three shapes."""
+
+    blocks: list[list[str]] = field(default_factory=list)
+    constants: _Constants = field(default_factory=_Constants)
+    named: list[sp.Expr] = field(default_factory=list)
+    has_step: bool = False
+    renames: dict = field(default_factory=dict)
+    taken: dict = field(default_factory=dict)
+
+    def prepare(self, exprs: Sequence[sp.Expr]) -> list[sp.Expr]:
+        """Drop θ(t), note θ(t − τ), name algebraic numbers; returns the printable forms."""
+        out = []
+        exprs = [sp.sympify(e).replace(lambda h: isinstance(h, sp.Heaviside) and h.args[0] == TIME,
+                                       lambda h: sp.S.One) for e in exprs]
+        exprs = self._distinct_names(exprs)
+        self.constants.register_roots(exprs)
+        for e in exprs:
+            self.has_step |= e.has(sp.Heaviside)
+            self.named.append(e)
+            out.append(self.constants.replace(e))
+        return out
+
+    def _distinct_names(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
+        """Re-index named quantities that share a printed name but differ (ω₁ of two factors)."""
+        for q in named_quantities(exprs):
+            if q in self.renames:
+                continue
+            key = (q.base, q.index)
+            if self.taken.setdefault(key, q) == q:
+                self.renames[q] = q
+                continue
+            index = 1 + max(i for base, i in self.taken if base == q.base)
+            display = None if q.display is None else q.display.xreplace(self.renames)
+            twin = named(q.base, index, q.definition, positive=q.positive, meaning=q.meaning,
+                         display=display)
+            self.taken[(q.base, index)] = twin
+            self.renames[q] = twin
+        return [e.xreplace(self.renames) for e in exprs]
+
+    def equation(self, lhs: str, expr: sp.Expr) -> list[str]:
+        """Rows ``lhs &= expr`` (split over lines if long), names registered.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from laplace_springs import t
+        >>> writer = LatexWriter()
+        >>> x = sp.Heaviside(t - 2) * sp.sin(t - 2) + sp.Heaviside(t) * sp.cos(t)
+        >>> print(*writer.equation("x(t)", x))
+        x(t) &= \\cos{\\left(t \\right)} + \\sin{\\left(t - 2 \\right)} \\theta\\left(t - 2\\right)
+        >>> writer.where_rows()[0].endswith("{unit step}")
+        True
+        """
+        (prepared,) = self.prepare([expr])
+        return _equation_rows(lhs, prepared)
+
+    def where_rows(self) -> list[str]:
+        """Rows defining every named quantity and constant used so far."""
+        rows = []
+        for q, shown in definitions(self.named).items():
+            meaning = rf" && \text{{{q.meaning}}}" if q.meaning else ""
+            rows.append(f"{_tex(q)} &= {_tex(shown)}{meaning}")
+        rows += self.constants.rows()
+        if self.has_step:
+            rows.append(r"\theta(s) &= 1 \text{ for } s \geq 0, \quad \theta(s) = 0 "
+                        r"\text{ for } s < 0 && \text{unit step}")
+        if rows:
+            rows[0] = r"\text{where}\quad " + rows[0]
+        return rows
+
+    def render(self, output: Output = "fragment", *, title: str | None = None,
+               text: str | None = None) -> str:
+        """The collected blocks as a fragment, a Markdown snippet or a document."""
+        blocks = [_aligned(rows) for rows in self.blocks if rows]
+        if output == "fragment":
+            return "\n\n".join(blocks)
+        if output == "markdown":
+            return as_markdown(blocks)
+        if output == "document":
+            return as_document(blocks, title=title, text=text)
+        raise ValueError(f"output must be 'fragment', 'markdown' or 'document', got {output!r}")
+
+
+def as_markdown(blocks: Sequence[str]) -> str:
+    """Each block between ``$$`` lines (Markdown with KaTeX/MathJax display math)."""
+    return "\n\n".join(f"$$\n{block}\n$$" for block in blocks) + "\n"
+
+
+_DOCUMENT = r"""\documentclass[11pt]{article}
+\usepackage[utf8]{inputenc}
+\usepackage{amsmath,amssymb}
+\usepackage[margin=2cm,landscape]{geometry}
+\allowdisplaybreaks
+\begin{document}
+%s
+\end{document}
+"""
+
+_TEXT_ESCAPES = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
+                 "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
+                 "^": r"\textasciicircum{}"}
+
+
+def _escape_text(text: str) -> str:
+    return "".join(_TEXT_ESCAPES.get(ch, ch) for ch in text)
+
+
+def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | None = None) -> str:
+    """A standalone ``article`` (amsmath, amssymb, geometry), each block an ``align*``."""
+    parts = []
+    if title:
+        parts.append(rf"\section*{{{_escape_text(title)}}}")
+    if text:
+        parts.append(_escape_text(" ".join(text.split())))
+    parts += [block.replace("{aligned}", "{align*}") for block in blocks]  # breaks across pages
+    return _DOCUMENT % "\n\n".join(parts)
+
+
+# ---------------------------------------------------------------------------
+# solution, resolvent, Sylvester
+# ---------------------------------------------------------------------------
+def _motion_rows(writer: LatexWriter, sol: ExactMotion, form: str) -> list[str]:
+    names = [latex_name(n) for n in sol.scene.names]
+    if form == "terms":
+        return [row for name, e in zip(names, sol.x) for row in writer.equation(f"{name}(t)", e)]
+    if form != "g":
+        raise ValueError(f"form must be 'terms' or 'g', got {form!r}")
+    C, basis = sol.g_coefficients, sol.g_basis
+    rows = []
+    coefficients = iter(writer.prepare([C[i, k] for i in range(C.rows) for k in sol.g_indices]))
+    for name in names:
+        total = sp.Add(*(next(coefficients) * _g_function(k) for k in sol.g_indices))
+        rows += _equation_rows(f"{name}(t)", total)
+    rows.append(rf"\Delta(\lambda) &= {_poly_tex(sol.g_denominator)}")
+    for k, expr in zip(sol.g_indices, writer.prepare([basis[k] for k in sol.g_indices])):
+        lhs = (rf"g_{{{k}}}(t) = \mathcal{{L}}^{{-1}}\left[\frac{{\lambda^{{{k}}}}}"
+               rf"{{\Delta(\lambda)}}\right]")
+        rows += _equation_rows(lhs, expr)
+    return rows
+
+
+def solution_latex(sol: ExactMotion, *, form: str = "terms", resolvent: bool = False,
+                   sylvester: bool = False, output: Output = "fragment") -> str:
+    """x(t) of an exact motion in LaTeX, with the definitions of everything named in it.
+
+    Parameters
+    ----------
+    sol : ExactMotion
+        The exact motion of a solved scene (``solution.motion``).
+    form : {"terms", "g"}
+        "terms": damped sines and cosines; "g": x_i(t) = Σ_k c_ik g_k(t) with the seed's
+        g_k(t) = L⁻¹[λ^k/Δ(λ)] written out.
+    resolvent : bool
+        Also Δ(λ), the seed's R(λ) = (λ²I + λB + A)⁻¹ and X(λ).
+    sylvester : bool
+        Also Sylvester's matrices Z_λ of A = M⁻¹K and Ψ(t) = cos(√A t),
+        Φ(t) = sin(√A t)/√A (undamped scenes with numeric A, the seed's Example 1).
+    output : {"fragment", "markdown", "document"}
+        A math fragment (``aligned`` blocks), a Markdown snippet (``$$`` blocks) or a
+        standalone document.
+
+    Returns
+    -------
+    str
+    """
+    writer = LatexWriter()
+    writer.blocks.append(_motion_rows(writer, sol, form))
+    if resolvent:
+        writer.blocks.append(_resolvent_rows(writer, sol.resolvent))
+    if sylvester:
+        writer.blocks.append(_sylvester_rows(writer, sol.scene))
+    writer.blocks[0] += writer.where_rows()
+    return writer.render(output, title=sol.scene.title or None)
+
+
+def _resolvent_rows(writer: LatexWriter, R: Resolvent) -> list[str]:
+    delta = R.integer_characteristic_polynomial.as_expr()
+    normalized = R.normalized()
+    scaled = normalized.applyfunc(lambda e: sp.factor_terms(sp.expand(sp.cancel(e * delta))))
+    transform = [sp.factor_terms(sp.expand(sp.cancel(N.as_expr() * delta / R.determinant.as_expr())))
+                 for N in R.numerators]
+    rows = [rf"\Delta(\lambda) &= {_poly_tex(sp.Poly(delta, R.variable))}",
+            r"R(\lambda) = \left(\lambda^{2} I + \lambda B + A\right)^{-1} &= "
+            r"\frac{1}{\Delta(\lambda)} " + _tex(sp.Matrix(scaled))]
+    for name, numerator in zip(R.scene.names, transform):
+        rows.append(rf"{latex_name(name)}^{{L}}(\lambda) &= \frac{{{_tex(numerator)}}}{{\Delta(\lambda)}}")
+    return rows
+
+
+def resolvent_latex(R: Resolvent, *, output: Output = "fragment") -> str:
+    """Δ(λ), R(λ) = (λ²I + λB + A)⁻¹ = adj(λ)M/Δ(λ) and X(λ) in LaTeX.
+
+    Δ(λ) is scaled as the seed prints it (integer coefficients, content 1) for numeric
+    scenes, monic for symbolic ones.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> print(resolvent_latex(ls.resolvent(ls.load_scene("vertical-pair-damped"))).splitlines()[1])
+    \\Delta(\\lambda) &= 25 \\lambda^{4} + 10 \\lambda^{3} + 126 \\lambda^{2} + 25 \\lambda + 100 \\\\
+    """
+    writer = LatexWriter()
+    writer.blocks.append(_resolvent_rows(writer, R))
+    return writer.render(output, title=R.scene.title or None)
+
+
+def _sylvester_rows(writer: LatexWriter, scene: Scene) -> list[str]:
+    if not scene.C.is_zero_matrix or scene.M.free_symbols or scene.K.free_symbols:
+        raise ValueError("Sylvester's matrices need an undamped scene with numeric M and K")
+    A, _ = scene.normalized()
+    Z = sylvester_matrices(A)
+    eigen = writer.prepare(list(Z))
+    rows = [rf"A = M^{{-1}} K &= {_tex(sp.Matrix(A))}"]
+    for value, shown in zip(Z, eigen):
+        rows.append(rf"Z_{{{_tex(shown)}}} &= {_tex(sp.Matrix(Z[value]))}")
+    for lhs, kind in ((r"\Psi(t) = \cos\left(\sqrt{A}\, t\right)", "cos_sqrt"),
+                      (r"\Phi(t) = \frac{\sin\left(\sqrt{A}\, t\right)}{\sqrt{A}}", "sinc_sqrt")):
+        pairs = matrix_function_terms(A, kind, TIME)
+        bases = writer.prepare([basis for basis, _ in pairs])
+        body = " + ".join(rf"{_tex(b)} {_tex(sp.Matrix(M))}" for b, (_, M) in zip(bases, pairs))
+        rows.append(f"{lhs} &= {body}")
+    rows.append(r"x(t) &= \Psi(t)\, x_{0} + \Phi(t)\, v_{0}")
+    return rows
+
+
+def sylvester_latex(scene: Scene, *, output: Output = "fragment") -> str:
+    """Sylvester's auxiliary matrices and Ψ(t), Φ(t) of an undamped numeric scene.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> print(sylvester_latex(ls.load_scene("vertical-pair")).splitlines()[2])
+    Z_{1} &= \\begin{bmatrix}\\frac{1}{3} & \\frac{1}{3}\\\\\\frac{2}{3} & \\frac{2}{3}\\end{bmatrix} \\\\
+    """
+    writer = LatexWriter()
+    writer.blocks.append(_sylvester_rows(writer, scene))
+    writer.blocks[0] += writer.where_rows()
+    return writer.render(output, title=scene.title or None)
+
+
+def matrix_latex(scene: Scene, x: sp.MatrixBase, *, standalone: bool = False,
+                 markdown: bool = False) -> str:
+    """x_i(t) = ... rows of a motion given as expressions (Float coefficients allowed).
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> scene = ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0])
+    >>> print(matrix_latex(scene, sp.Matrix([sp.cos(2 * TIME)])).splitlines()[1])
+    x_{1}(t) &= \\cos{\\left(2 t \\right)}
+    """
+    rows = [row for name, e in zip(scene.names, x)
+            for row in _equation_rows(f"{latex_name(name)}(t)", sp.sympify(e))]
+    output: Output = "document" if standalone else "markdown" if markdown else "fragment"
+    blocks = [_aligned(rows)]
+    if output == "markdown":
+        return as_markdown(blocks)
+    if output == "document":
+        return as_document(blocks, title=scene.title or None)
+    return "\n".join(blocks)

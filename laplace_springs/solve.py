@@ -1,0 +1,126 @@
+"""``solve``: build the solution on the route the policy chooses.
+
+The decisions and their thresholds are in :mod:`laplace_springs.policy`; this module
+gathers the facts it needs about a scene, runs the chosen route and, for ``"auto"``,
+asks the policy again once the modal route's own error bound is known.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .exact.assembly import exact_motion
+from .model.errors import SceneError
+from .model.scene import Scene
+from .numeric.certified import certified_poles
+from .numeric.first_order import has_first_order_form, is_rational
+from .numeric.modal import decompose_modal
+from .numeric.times import as_times
+from .policy import (
+    PROBE_TIMES,
+    Decision,
+    SceneFacts,
+    after_modal_probe,
+    check_target,
+    column_scales,
+    route_for,
+)
+from .solution import CertifiedSolution, ExactSolution, ModalSolution, Solution
+
+__all__ = ["solve", "scene_facts"]
+
+
+def scene_facts(scene: Scene) -> SceneFacts:
+    """What :func:`laplace_springs.policy.route_for` needs to know of a scene.
+
+    Examples
+    --------
+    >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0]))
+    SceneFacts(n=1, symbolic=True, forced=False, rational=False, first_order=False)
+    """
+    symbolic = bool(scene.free_symbols)
+    return SceneFacts(n=scene.n, symbolic=symbolic, forced=scene.is_forced,
+                      rational=not symbolic and is_rational(scene),
+                      first_order=not symbolic and has_first_order_form(scene))
+
+
+def solve(scene: Scene, *, method: str = "auto", target: float | None = None) -> Solution:
+    """Solve M x'' + C x' + K x = f(t) with the scene's initial data.
+
+    Parameters
+    ----------
+    scene : Scene
+        The mechanical system.
+    method : {"auto", "exact", "modal", "certified"}
+        "exact": exact partial fractions (symbols, forcing, closed forms). "modal": the
+        conditioned float64 eigen-decomposition (large numeric scenes). "certified":
+        exact polynomials with certified roots, evaluated in ball arithmetic. "auto"
+        takes the fastest route that meets the contract (see
+        :func:`laplace_springs.policy.route_for`). "numeric" is the former name of
+        "modal".
+    target : float, optional
+        The relative accuracy every evaluation aims at (default
+        :data:`laplace_springs.policy.TARGET`, 1e-13).
+
+    Returns
+    -------
+    Solution
+        :class:`~laplace_springs.solution.ExactSolution`,
+        :class:`~laplace_springs.solution.ModalSolution` or
+        :class:`~laplace_springs.solution.CertifiedSolution`: the same interface, with
+        ``method`` and ``reason`` saying which route was taken and why.
+
+    Raises
+    ------
+    SceneError
+        When the requested route cannot take the scene (named in the message).
+
+    Examples
+    --------
+    A critically damped mass, x'' + 2x' + x = 0, x(0) = 1:
+
+    >>> sol = solve(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0]))
+    >>> sol.method, sol.x[0]
+    ('exact', t*exp(-t) + exp(-t))
+    >>> sol.evaluate([0.0, 1.0]).round(12)
+    array([[1.        , 0.73575888]])
+    """
+    target = check_target(target)
+    facts = scene_facts(scene)
+    decision = route_for(method, facts)
+    if decision.route == "exact":
+        return ExactSolution(exact_motion(scene), reason=decision.reason, target=target)
+    if decision.route == "certified":
+        return _certified(scene, decision, target)
+    try:
+        motion = decompose_modal(scene)
+    except SceneError:
+        if method != "auto":
+            raise
+        fallback = Decision("certified" if facts.certified_ok else "exact",
+                            "auto: the modal route cannot hold this scene in float64")
+        return (_certified(scene, fallback, target) if fallback.route == "certified"
+                else ExactSolution(exact_motion(scene), reason=fallback.reason, target=target))
+    solution = ModalSolution(scene, motion, reason=decision.reason, target=target)
+    if method == "auto":
+        better = after_modal_probe(facts, _probe(solution), target)
+        if better is not None:
+            return _certified(scene, better, target)
+    return solution
+
+
+def _certified(scene: Scene, decision: Decision, target: float) -> CertifiedSolution:
+    poles = certified_poles(scene)
+    if poles is None:  # route_for has checked the facts; this is a safeguard
+        raise SceneError("the certified route cannot take this scene")
+    return CertifiedSolution(scene, poles, reason=decision.reason, target=target)
+
+
+def _probe(solution: ModalSolution) -> float:
+    """The modal route's largest bound relative to the contract's scale at PROBE_TIMES."""
+    times = as_times(np.array(PROBE_TIMES))
+    values, bounds = solution._float(times, 0)
+    scale = column_scales(values, solution._floor(0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.max(bounds / np.where(scale > 0, scale, np.inf)[None, :])
+    return float(ratio) if np.isfinite(ratio) else float("inf")
