@@ -27,7 +27,10 @@ from .output.drawing import draw_scene
 from .output.latex import resolvent_latex
 from .output.plots import plot_frequency_response
 from .policy import TARGET
-from .solution import CertifiedSolution, ExactSolution, ModalSolution, Solution, Verification, t
+from .routes.certified import CertifiedSolution
+from .routes.exact import ExactSolution
+from .routes.modal import ModalSolution
+from .solution import Solution, Verification, t
 from .solve import solve
 
 __all__ = [

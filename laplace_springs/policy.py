@@ -37,7 +37,7 @@ import numpy as np
 from .model.errors import SceneError
 
 __all__ = [
-    "TARGET", "METHODS", "ROUTES", "EXACT_AUTO_MAX_COORDINATES", "EXACT_FALLBACK_MAX_COORDINATES",
+    "TARGET", "MIN_RELATIVE_BOUND", "METHODS", "ROUTES", "EXACT_AUTO_MAX_COORDINATES", "EXACT_FALLBACK_MAX_COORDINATES",
     "EXACT_FORM_MAX_COORDINATES", "CERTIFIED_MAX_ORDER", "ESCALATION_DIGITS", "PROBE_TIMES",
     "SceneFacts", "Decision", "route_for", "after_modal_probe", "reference_scale",
     "column_scales", "escalate_columns", "check_target",
@@ -45,6 +45,10 @@ __all__ = [
 
 #: Default accuracy of every evaluation, relative to max(‖x(t)‖∞, S₀) (see the contract).
 TARGET = 1e-13
+#: A float64 bound never claims less than this relative to the value (14 significant
+#: digits): a decimal reference printed to 15 digits differs from a correctly rounded
+#: float64 value by up to 5e-15 of it, and no float64 value is better than its decimal.
+MIN_RELATIVE_BOUND = 1e-14
 
 #: The routes a solution reports as its ``method``.
 ROUTES = ("exact", "modal", "certified")
@@ -170,12 +174,14 @@ def route_for(method: str, facts: SceneFacts) -> Decision:
 def _check_applicable(route: str, facts: SceneFacts) -> None:
     if route == "modal" and not facts.modal_ok:
         why = ("has symbols" if facts.symbolic else "is forced" if facts.forced
-               else "has no first-order form (a singular mass matrix not held by dashpots)")
+               else "has no first-order form (massless nodes not held by dashpots, or a "
+               "singular mass matrix)")
         raise SceneError(f"the modal route cannot take this scene: it {why}; use method='exact'")
     if route == "certified" and not facts.certified_ok:
         why = ("has symbols" if facts.symbolic else "is forced" if facts.forced
                else "has irrational entries" if not facts.rational
-               else "has no first-order form" if not facts.first_order
+               else "has no first-order form (massless nodes not held by dashpots, or a "
+               "singular mass matrix)" if not facts.first_order
                else f"is too large (2n = {2 * facts.n} > CERTIFIED_MAX_ORDER = {CERTIFIED_MAX_ORDER})")
         raise SceneError(f"the certified route cannot take this scene: it {why}")
 

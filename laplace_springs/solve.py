@@ -13,7 +13,7 @@ from .exact.assembly import exact_motion
 from .model.errors import SceneError
 from .model.scene import Scene
 from .numeric.certified import certified_poles
-from .numeric.first_order import has_first_order_form, is_rational
+from .numeric.first_order import has_first_order_form, is_rational, symbolic_entries
 from .numeric.modal import decompose_modal
 from .numeric.times import as_times
 from .policy import (
@@ -25,7 +25,10 @@ from .policy import (
     column_scales,
     route_for,
 )
-from .solution import CertifiedSolution, ExactSolution, ModalSolution, Solution
+from .routes.certified import CertifiedSolution
+from .routes.exact import ExactSolution
+from .routes.modal import ModalSolution
+from .solution import Solution
 
 __all__ = ["solve", "scene_facts"]
 
@@ -65,9 +68,9 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     Returns
     -------
     Solution
-        :class:`~laplace_springs.solution.ExactSolution`,
-        :class:`~laplace_springs.solution.ModalSolution` or
-        :class:`~laplace_springs.solution.CertifiedSolution`: the same interface, with
+        :class:`~laplace_springs.routes.exact.ExactSolution`,
+        :class:`~laplace_springs.routes.modal.ModalSolution` or
+        :class:`~laplace_springs.routes.certified.CertifiedSolution`: the same interface, with
         ``method`` and ``reason`` saying which route was taken and why.
 
     Raises
@@ -87,6 +90,9 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     """
     target = check_target(target)
     facts = scene_facts(scene)
+    if facts.symbolic and method in ("modal", "numeric", "certified"):
+        raise SceneError(f"the {method} route needs numbers, but these entries are symbolic: "
+                         + ", ".join(symbolic_entries(scene)) + "; use method='exact'")
     decision = route_for(method, facts)
     if decision.route == "exact":
         return ExactSolution(exact_motion(scene), reason=decision.reason, target=target)

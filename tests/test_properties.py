@@ -1,8 +1,8 @@
 """Property tests (hypothesis).
 
 1. Random physical scenes (n <= 4 masses, springs and dashpots between masses and to
-   walls, so K and C are positive semi-definite, small rationals): the exact route and
-   the numeric route agree, and both solutions pass ``verify()``.
+   walls, so K and C are positive semi-definite, small rationals): the exact, modal and
+   certified routes agree with the arb reference within their bounds, and pass ``verify()``.
 2. Random malformed input to every scene builder and to the TOML loader only ever raises
    ``SceneError``.
 """
@@ -17,7 +17,6 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from laplace_springs import Scene, SceneError, solve
-from laplace_springs.numeric.modal import solve_numeric
 from laplace_springs.bench.reference import reference_motion_arb, relative_error
 from laplace_springs.model.scene_files import scene_from_toml_text
 
@@ -52,30 +51,33 @@ def _scale_free_error(values, reference) -> float:
     return relative_error(values, reference) if size > 0 else float(np.max(np.abs(values)))
 
 
+def _within_bounds(sol, scene, tolerance):
+    values, errors = sol.evaluate(TIMES, return_error=True)
+    reference = reference_motion_arb(scene, list(TIMES), digits=30)
+    assert _scale_free_error(values, reference) < tolerance
+    assert np.all(np.abs(values - reference.astype(float)) <= errors)
+
+
 @settings(max_examples=12, **SETTINGS)
 @given(physical_scenes(max_masses=3))
-def test_exact_and_numeric_routes_agree(scene):
-    exact = solve(scene)
-    numeric = solve_numeric(scene)
-    assert _scale_free_error(numeric.evaluate(TIMES), exact.evaluate(TIMES)) < 1e-9
-    assert exact.verify()
-    assert numeric.verify()
+def test_the_three_routes_agree_with_the_reference(scene):
+    for method in ("exact", "modal", "certified"):
+        sol = solve(scene, method=method)
+        _within_bounds(sol, scene, 1e-11)
+        assert sol.verify()
 
 
 @settings(max_examples=3, **SETTINGS)
 @given(physical_scenes(max_masses=4).filter(lambda s: s.n == 4))
-def test_exact_and_numeric_routes_agree_on_four_masses(scene):
-    exact = solve(scene)
-    assert _scale_free_error(solve_numeric(scene).evaluate(TIMES), exact.evaluate(TIMES)) < 1e-9
+def test_exact_route_on_four_masses(scene):
+    _within_bounds(solve(scene, method="exact"), scene, 1e-11)
 
 
 @settings(max_examples=15, **SETTINGS)
 @given(physical_scenes(max_masses=6))
-def test_numeric_route_matches_the_arb_reference(scene):
-    values, errors = solve_numeric(scene).evaluate(TIMES, return_error=True)
-    reference = reference_motion_arb(scene, list(TIMES), digits=20)
-    assert _scale_free_error(values, reference) < 1e-11
-    assert np.all(np.abs(values - reference.astype(float)) <= errors + 1e-300)
+def test_auto_and_modal_routes_match_the_arb_reference(scene):
+    for method in ("auto", "modal"):
+        _within_bounds(solve(scene, method=method), scene, 1e-11)
 
 
 # ----------------------------------------------------------------------------- malformed input
@@ -159,7 +161,7 @@ def test_toml_templates_are_reachable():
     """The line strategy can build valid scenes (so the property above reaches the builders)."""
     text = '[masses]\nm1 = "1"\n[springs]\nk1 = ["m1", "wall", "1"]\n[initial]\nx0 = ["1"]'
     assert scene_from_toml_text(text).n == 1
-    assert math.isclose(float(solve_numeric(scene_from_toml_text(text)).evaluate(0.0)[0, 0]), 1.0)
+    assert math.isclose(float(solve(scene_from_toml_text(text), method="modal").evaluate(0.0)[0, 0]), 1.0)
 
 
 @pytest.mark.parametrize("entry", ["1/0", "0/0", float("nan"), float("inf"), "k**", None, [1], "1e400000"])

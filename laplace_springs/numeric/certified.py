@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -66,8 +67,8 @@ class _Pole:
     ``coefficients[k][i]`` multiplies t^k e^{ρt} in coordinate i; ``weight`` is 2 for a
     complex root (its conjugate is folded in through the real part), 1 for a real one.
     """
-    root: object  # acb
-    coefficients: list  # [k][i] -> acb
+    root: Any  # acb
+    coefficients: list[list[Any]]  # [k][i] -> acb
     weight: int
 
 
@@ -95,10 +96,10 @@ class CertifiedPoles:
         Irreducible factors of D and their multiplicities.
     """
     n: int
-    denominator: object
-    numerators: list
-    factors: list
-    _balls: dict = field(default_factory=dict, repr=False)
+    denominator: Any
+    numerators: list[Any]
+    factors: list[tuple[Any, int]]
+    _balls: dict[int, _Balls] = field(default_factory=dict, repr=False)
 
     @property
     def degree(self) -> int:
@@ -179,8 +180,9 @@ def _precision(poles: list[_Pole]) -> float:
 
 
 def _mpf(value) -> mpmath.mpf:
+    """An exact arb midpoint (or radius) as an mpf, exactly: no rounding to mpmath's precision."""
     man, exp = value.man_exp()
-    return mpmath.mpf((int(man), int(exp)))
+    return mpmath.mp.make_mpf(mpmath.libmp.from_man_exp(int(man), int(exp)))
 
 
 def _relative_radius(value) -> float:
@@ -258,7 +260,9 @@ def _pole(data: CertifiedPoles, q, m: int, rest, root) -> _Pole:
 
 def _pole_sum(n: int, poles: list[_Pole], dps: int) -> PoleSum:
     """The poles (with their conjugates) as a PoleSum of mpmath numbers at ``dps + 10``."""
-    nodes, coefficients, mirror = [], [], []
+    nodes: list[Any] = []
+    coefficients: list[tuple[tuple[Any, ...], ...]] = []
+    mirror: list[int] = []
     with mpmath.workdps(dps + 10):
         for pole in poles:
             z = mpmath.mpc(_mpf(pole.root.real.mid()), _mpf(pole.root.imag.mid()))

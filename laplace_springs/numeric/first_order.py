@@ -23,8 +23,27 @@ from flint import fmpq, fmpq_mat, fmpz_mat
 from ..model.errors import SceneError
 from ..model.scene import Scene
 
-__all__ = ["float_matrix", "scene_arrays", "massless_nodes", "first_order_system", "RigidSplit",
+__all__ = ["symbolic_entries", "float_matrix", "scene_arrays", "massless_nodes", "first_order_system", "RigidSplit",
            "rigid_split", "is_rational", "has_first_order_form"]
+
+
+def symbolic_entries(scene: Scene) -> list[str]:
+    """``"K[1,1] = k"`` for every entry of M, C, K, x0, v0 that has a free symbol.
+
+    Examples
+    --------
+    >>> symbolic_entries(Scene.from_matrices(M=[[1]], K=[["k"]], x0=["d"], v0=[0]))
+    ['K[0,0] = k', 'x0[0] = d']
+    """
+    found = []
+    for name in ("M", "C", "K", "x0", "v0"):
+        matrix = getattr(scene, name)
+        for index, entry in enumerate(matrix):
+            if entry.free_symbols:
+                i, j = divmod(index, matrix.cols)
+                label = f"{name}[{i}]" if name in ("x0", "v0") else f"{name}[{i},{j}]"
+                found.append(f"{label} = {entry}")
+    return found
 
 
 def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:

@@ -270,7 +270,8 @@ def _invariant_subspace(Z: np.ndarray, group: np.ndarray, mu: np.ndarray, start:
         Q = np.linalg.qr(inverse @ Q)[0]
     residual = Z @ Q - Q @ (Q.conj().T @ Z @ Q)
     error = max(_EPS * _norm(Z) / offset, np.linalg.norm(residual, 2) / gap)
-    return Q, bool(np.linalg.norm(residual, 1) <= 1e-10 * max(1.0, np.linalg.norm(Z, 1))), float(error)
+    converged = float(np.linalg.norm(residual, 1)) <= 1e-10 * max(1.0, float(np.linalg.norm(Z, 1)))
+    return Q, converged, float(error)
 
 
 def _newton_step(Z: np.ndarray, mu: np.ndarray, V: np.ndarray, W: np.ndarray,
@@ -333,7 +334,7 @@ class Block:
         """The eigenvalues of T; a group tighter than √ε relative is reported as one repeated pole."""
         values = np.linalg.eigvals(self.T)
         spread = np.max(np.abs(values - self.center))
-        if spread <= 1e-7 * max(abs(self.center), np.linalg.norm(self.T, 2), 1e-300):
+        if spread <= 1e-7 * max(abs(self.center), float(np.linalg.norm(self.T, 2)), 1e-300):
             return np.full(len(values), self.center)
         return values
 
@@ -571,7 +572,8 @@ def _decompose(Z: np.ndarray, y0: np.ndarray, back: np.ndarray, gamma: float,
         mu, error = _newton_step(Z, mu, V, W, kappa)
     else:
         error = _EPS * kappa * scale
-    error = np.maximum(error, kappa * residual)
+    with np.errstate(invalid="ignore"):  # κ = inf (defective): those modes go into blocks
+        error = np.maximum(error, np.where(residual > 0, kappa * residual, 0.0))
     simple, X, blocks, warnings = _basis(Z, mu, V, groups)
     Xinv = W[simple] if len(simple) == len(mu) else _inverse(X)
     unit = max(4 * _EPS * math.sqrt(len(mu)), float(np.max(residual, initial=0.0)) / scale)
@@ -701,7 +703,8 @@ def _sampled(modes: Modes, scale: float, arrays: tuple[np.ndarray, ...],
     samples = []
     for _ in range(SAMPLES):
         try:
-            other, other_scale = _decompose_arrays(*_perturbed(arrays, rounding, rng), noise=rng)
+            M, C, K, x0, v0 = _perturbed(arrays, rounding, rng)
+            other, other_scale = _decompose_arrays(M, C, K, x0, v0, noise=rng)
         except (SceneError, np.linalg.LinAlgError):
             return modes
         samples.append((other, other_scale / scale))
@@ -845,7 +848,7 @@ def _block_terms(block: Block, tol: float = 1e-13):
     """(rate, coefficient vectors by power of t) of a block: polynomial×exp if T-μ is nilpotent."""
     m = len(block.T)
     N = block.T - block.center * np.eye(m)
-    scale = max(np.linalg.norm(block.T, 1), 1e-300)
+    scale = max(float(np.linalg.norm(block.T, 1)), 1e-300)
     if np.linalg.norm(np.linalg.matrix_power(N, m), 1) <= tol * scale**m:
         powers, vector = [], block.c.astype(complex)
         for p in range(m):

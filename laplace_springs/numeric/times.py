@@ -129,7 +129,7 @@ def as_times(times: object) -> Times:
     Examples
     --------
     >>> T = as_times([0, 0.5, "0.1"])
-    >>> T.hi.tolist(), T.lo[2] != 0, T.exact(2)
+    >>> T.hi.tolist(), bool(T.lo[2] != 0), T.exact(2)
     ([0.0, 0.5, 0.1], True, Fraction(1, 10))
     >>> as_times([1.0, float("nan")])
     Traceback (most recent call last):
@@ -153,7 +153,7 @@ def as_times(times: object) -> Times:
             _refuse(i, values[i])
     if not np.all(np.isfinite(hi)):
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
-        raise ValueError(f"times[{i}] = {values[i]} is beyond the float64 range")
+        raise ValueError(f"times[{i}] = {values[i]!r} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
 
 

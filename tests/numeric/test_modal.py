@@ -1,4 +1,4 @@
-"""The numeric route against independent references.
+"""The modal route (float64 eigen-decomposition) against independent references.
 
 References: mpmath's expm of the first-order system (reference_motion), python-flint's
 certified arb matrix exponential (reference_motion_arb), and textbook closed forms
@@ -12,9 +12,14 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from laplace_springs import Scene, SceneError, bundled_scenes, load_scene, t
-from laplace_springs.numeric.modal import NumericSolution, solve_numeric
+from laplace_springs import ModalSolution, Scene, SceneError, bundled_scenes, load_scene, solve, t
 from laplace_springs.bench.reference import reference_motion, reference_motion_arb, relative_error
+
+
+def solve_numeric(scene: Scene) -> ModalSolution:
+    sol = solve(scene, method="modal")
+    assert isinstance(sol, ModalSolution)
+    return sol
 
 TIMES = np.array([0.0, 0.3, 1.0, 2.5, 7.0, 15.0, 40.0])
 
@@ -134,9 +139,11 @@ def test_heavy_damping_keeps_the_slow_pole():
 
 
 def test_closed_form_agrees_with_the_reference():
+    # the Float closed form (what x is for scenes too large for an exact one)
     scene = load_scene("three-dashpots")
-    sol = solve_numeric(scene)
-    f = sp.lambdify(t, sol.x, "mpmath")
+    form = solve_numeric(scene).motion.closed_form()
+    assert form.atoms(sp.Float) and not form.has(sp.CRootOf)
+    f = sp.lambdify(t, form, "mpmath")
     values = np.array([[float(v) for v in f(mpmath.mpf(tv))] for tv in TIMES]).T
     assert relative_error(values, reference_motion(scene, list(TIMES), dps=30)) < 1e-12
 
@@ -163,12 +170,13 @@ def test_error_estimate_bounds_the_error():
 
 def test_interface_and_verify():
     scene = load_scene("vertical-pair-damped")
-    sol = solve_numeric(scene, reason="Δ has degree 4; testing")
-    assert isinstance(sol, NumericSolution) and sol.method == "numeric"
-    assert "testing" in repr(sol) and "numeric" in repr(sol)
+    sol = solve_numeric(scene)
+    assert sol.method == "modal" and sol.reason == "method='modal' was requested"
+    assert "modal" in repr(sol)
     assert sol.evaluate(TIMES).shape == (2, len(TIMES)) and sol.evaluate(1.0).shape == (2, 1)
     assert sol.poles.dtype == complex and len(sol.poles) == 4
-    assert all(isinstance(c, sp.Float) for c in sol.x.atoms(sp.Number) if c not in (0, 1, -1)) or True
+    # up to EXACT_FORM_MAX_COORDINATES coordinates x is the exact closed form, built on request
+    assert sol.x == solve(scene, method="exact").x
     check = sol.verify()
     assert check and check.ode_residual < 1e-12 and check.initial_residual < 1e-12
 
@@ -176,13 +184,13 @@ def test_interface_and_verify():
 def test_verify_catches_a_wrong_solution():
     scene = load_scene("vertical-pair-damped")
     other = solve_numeric(scene.with_initial(x0=[0, 1]))
-    assert not NumericSolution(scene, other.modes, "wrong initial data").verify()
+    assert not ModalSolution(scene, other.motion, reason="wrong initial data").verify()
 
 
 def test_symbolic_scene_is_refused_by_name():
     scene = Scene.from_matrices(M=[[1, 0], [0, "m"]], K=[[2, -1], [-1, "k"]], x0=[1, 0], v0=[0, 0])
     with pytest.raises(SceneError, match=r"M\[1,1\] = m.*K\[1,1\] = k"):
-        solve_numeric(scene)
+        solve(scene, method="modal")
 
 
 def maxwell(k_spring_only: bool = False) -> Scene:
@@ -206,4 +214,4 @@ def test_massless_node_held_by_a_dashpot():
 
 def test_massless_node_without_a_dashpot_is_refused_clearly():
     with pytest.raises(SceneError, match="massless"):
-        solve_numeric(maxwell(k_spring_only=True))
+        solve(maxwell(k_spring_only=True), method="modal")

@@ -15,14 +15,25 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import laplace_springs as ls
-from laplace_springs.numeric import terms as evaluate as ev
-from laplace_springs.numeric.terms import evaluate_float, evaluate_mp, numeric_terms
-from laplace_springs.exact.inverse import inverse_laplace_terms
-from laplace_springs.numeric.pole_sum import first_row_exp
-from laplace_springs.exact.real_terms import Term
 from laplace_springs.bench.reference import reference_motion_arb, relative_error
+from laplace_springs.exact.inverse import inverse_laplace_terms
+from laplace_springs.exact.real_terms import Term
+from laplace_springs.numeric.pole_sum import first_row_exp, two_diff
+from laplace_springs.numeric.terms import float_values, mp_values, numeric_terms
 
 s, t = sp.symbols("s t")
+
+
+def evaluate_float(data, n, times, *, lo=None):
+    """The float64 kernel alone (no escalation), as numpy arrays."""
+    return float_values(data, n, np.asarray(times, dtype=float), lo)
+
+
+def evaluate_mp(data, n, times, digits):
+    with mpmath.workdps(digits + 30):
+        stamps = [mpmath.mpf(v) for v in times]
+    values, _, _ = mp_values(data, n, stamps, digits, [0.0] * len(stamps))
+    return np.array(values, dtype=object)
 
 
 def _errors(values, exact) -> tuple[float, float]:
@@ -47,13 +58,14 @@ def test_near_resonant_difference_of_cosines(gap):
     omega = sp.Rational(3, 2)
     omega_n = omega + sp.Rational(gap)
     times = np.array([0.0, 1e-9, 1e-3, 0.75, 3.0, 100.0, 2048.5, 1e4])
-    x = evaluate_float(numeric_terms([_beat_terms(omega, omega_n)]), 1, times)
+    x, bound = evaluate_float(numeric_terms([_beat_terms(omega, omega_n)]), 1, times)
     with mpmath.workdps(50):
         w, wn = (mpmath.mpf(v.p) / v.q for v in (omega, omega_n))
         exact = [(mpmath.cos(w * tv) - mpmath.cos(wn * tv)) / (wn**2 - w**2)
                  for tv in map(mpmath.mpf, times)]
     diff, scale = _errors(x[0], exact)
     assert diff <= 1e-15 * scale
+    assert np.all(bound[0] >= np.abs(x[0] - np.array([float(e) for e in exact])))
 
 
 @pytest.mark.parametrize("damping", ["1e-6", "1e-3"])
@@ -63,7 +75,7 @@ def test_light_damping_at_resonance(damping):
     F = s / ((s**2 + omega**2) * (s**2 + c * s + 1))
     terms = inverse_laplace_terms(F, s).terms
     times = np.array([0.0, 0.5, 10.0, 1e3, 4096.25, 1e4])
-    x = evaluate_float(numeric_terms([terms]), 1, times)
+    x, _ = evaluate_float(numeric_terms([terms]), 1, times)
     expr = ls.inverse_laplace(F, s, t)
     exact = [mpmath.mpf(str(sp.N(expr.subs(t, sp.Rational(tv)), 50))) for tv in times]
     diff, scale = _errors(x[0], exact)
@@ -90,8 +102,9 @@ def test_huge_and_zero_times():
 def test_empty_times_and_zero_motion():
     scene = ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[0], v0=[0])
     sol = ls.solve(scene)
-    assert evaluate_float(numeric_terms(sol.terms), 1, np.array([])).shape == (1, 0)
-    assert np.all(evaluate_float(numeric_terms(sol.terms), 1, np.array([0.0, 5.0])) == 0)
+    assert evaluate_float(numeric_terms(sol.terms), 1, np.array([]))[0].shape == (1, 0)
+    assert np.all(evaluate_float(numeric_terms(sol.terms), 1, np.array([0.0, 5.0]))[0] == 0)
+    assert sol.evaluate([]).shape == (1, 0)
 
 
 def test_return_error_bounds_actual_error():
@@ -101,7 +114,7 @@ def test_return_error_bounds_actual_error():
         dashpots={"c1": ("wall", "m1", "2.0000000002")}, x0=[1, 0], v0=[0, 1])
     sol = ls.solve(scene)
     times = np.linspace(0, 60, 41)
-    values, error = evaluate_float(numeric_terms(sol.terms), 2, times, return_error=True)
+    values, error = sol.evaluate(times, return_error=True)
     assert error.shape == values.shape
     ref = reference_motion_arb(scene, times, digits=40)
     actual = np.array([[abs(float(mpmath.mpf(v) - r)) for v, r in zip(vr, rr)]
@@ -110,20 +123,23 @@ def test_return_error_bounds_actual_error():
     assert error.max() <= 1e-13 * np.abs(values).max()
 
 
-def test_fallback_to_mpmath(monkeypatch):
-    # Forcing every column through the mpmath route gives the same accurate values.
-    monkeypatch.setattr(ev, "FALLBACK_TOLERANCE", 0.0)
-    omega, omega_n = sp.Rational(1), 1 + sp.Rational(1, 10**8)
+def test_escalation_to_mpmath():
+    # x'' + ω_n² x = cos t, ω_n = 1 + 1e-8, from rest: the beat (cos t − cos ω_n t)/(ω_n² − 1).
+    # A target below float64's reach sends every time to the mpmath route (escalation "mp").
+    omega_n = 1 + sp.Rational(1, 10**8)
+    scene = ls.Scene.from_matrices(M=[[1]], K=[[omega_n**2]], x0=[0], v0=[0], forcing=["cos(t)"])
+    sol = ls.solve(scene)
     times = np.array([0.0, 0.25, 1e4])
-    x, error = evaluate_float(numeric_terms([_beat_terms(omega, omega_n)]), 1, times,
-                              return_error=True)
+    x, error = sol.evaluate(times, return_error=True, target=1e-30)
     with mpmath.workdps(50):
         wn = mpmath.mpf(omega_n.p) / omega_n.q
         exact = [(mpmath.cos(tv) - mpmath.cos(wn * tv)) / (wn**2 - 1)
                  for tv in map(mpmath.mpf, times)]
     diff, scale = _errors(x[0], exact)
+    assert sol.escalation == "mp"
     assert diff <= 1e-16 * scale
-    assert np.all(error <= 1e-15 * scale)
+    assert np.all(error <= 1e-14 * scale)  # a float64 bound never claims more than 14 digits
+    assert np.all(error >= np.abs(x[0] - np.array([float(e) for e in exact])))
 
 
 def test_evaluate_mp_raises_its_precision():
@@ -181,10 +197,14 @@ def test_delay_is_subtracted_exactly(delay):
     omega, omega_n = sp.Rational(1), 1 + sp.Rational(1, 10**8)
     times = np.array([0.5, 1.0, 2.0**-40 + 1, 3333.25, 9999.875])
     data = numeric_terms([_beat_terms(omega, omega_n)])
-    x = evaluate_float(data, 1, times, delay=delay)
     with mpmath.workdps(50):
         tau = (mpmath.mpf(delay) if isinstance(delay, (str, float))
                else mpmath.mpf(str(sp.N(delay, 60))))
+        tau_hi = float(tau)
+        tau_lo = float(tau - tau_hi)
+    hi, lo = two_diff(times, tau_hi, tau_lo)
+    x, _ = evaluate_float(data, 1, hi, lo=lo)
+    with mpmath.workdps(50):
         wn = mpmath.mpf(omega_n.p) / omega_n.q
         exact = [(mpmath.cos(tv - tau) - mpmath.cos(wn * (tv - tau))) / (wn**2 - 1)
                  for tv in map(mpmath.mpf, times)]

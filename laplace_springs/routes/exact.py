@@ -1,0 +1,323 @@
+"""The exact route: the motion from exact partial fractions, evaluated as a stable pole sum.
+
+Float64 values come from the terms as a pole sum (:mod:`laplace_springs.numeric.terms`);
+times whose bound misses the target are recomputed in mpmath from the exact terms
+(escalation "mp"); ``dps`` evaluations likewise. :meth:`ExactSolution.verify` checks the
+closed form symbolically.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from functools import cached_property
+from typing import Any
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from ..exact.algebraic import numeric_value
+from ..exact.assembly import ExactMotion, Piece, exact_motion
+from ..exact.jumps import InitialJump, jump_residuals
+from ..exact.real_terms import Term
+from ..exact.resolvent import Resolvent
+from ..model.numbers import generic_values
+from ..model.scene import Scene
+from ..model.symbols import TIME
+from ..numeric.mp_expr import mp_value
+from ..numeric.pole_sum import two_diff
+from ..numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
+from ..numeric.times import Times
+from ..output.latex import Output, solution_latex
+from ..policy import ESCALATION_DIGITS, EXACT_FORM_MAX_COORDINATES
+from ..solution import DEFAULT_SAMPLES, Solution, Verification
+
+__all__ = ["ExactSolution", "exact_solution_of"]
+
+_EPS = float(np.finfo(float).eps)
+
+
+class ExactSolution(Solution):
+    """Exact motion x(t) of a scene, in real damped sine/cosine form.
+
+    Holds an :class:`~laplace_springs.exact.assembly.ExactMotion`; :attr:`x`, the pieces,
+    the seed's g-basis and the initial jump are exact. Float64 evaluation sums the terms
+    as a stable pole sum (:mod:`laplace_springs.numeric.terms`); times whose bound misses
+    the target are recomputed with mpmath ("mp").
+    """
+
+    method = "exact"
+
+    def __init__(self, motion: ExactMotion, *, reason: str, target: float | None = None) -> None:
+        super().__init__(motion.scene, reason=reason, target=target)
+        self.motion = motion
+
+    @property
+    def escalation(self) -> str:
+        return "mp"
+
+    # -- exact data -------------------------------------------------------------------
+    @property
+    def x(self) -> sp.ImmutableMatrix:
+        """x(t) as a SymPy column matrix; a response to an input delayed by τ carries
+        Heaviside(t − τ), nothing else does (the solution holds for t ≥ 0)."""
+        return self.motion.x
+
+    @property
+    def resolvent(self) -> Resolvent:
+        """Δ(λ), adj(λ) and X(λ) (see :mod:`laplace_springs.exact.resolvent`)."""
+        return self.motion.resolvent
+
+    @property
+    def terms(self) -> tuple[tuple[Term, ...], ...]:
+        """The real terms of each coordinate (of the piece switched on at t = 0)."""
+        return self.motion.terms
+
+    @property
+    def pieces(self) -> tuple[Piece, ...]:
+        """The motion's pieces, one per delay of the inputs (delay 0 first)."""
+        return self.motion.pieces
+
+    @cached_property
+    def steady_state(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the input's poles: what the forcing sustains.
+
+        Zero for a free motion; at exact resonance of an undamped system the secular
+        t·sin term belongs here (its pole is the input's).
+        """
+        return self.motion.part("steady")
+
+    @cached_property
+    def transient(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the system's own poles only: x = transient + steady_state."""
+        return self.motion.part("transient")
+
+    @property
+    def initial_jump(self) -> InitialJump:
+        """x(0⁺), x'(0⁺) and what jumped at t = 0 (see :attr:`ExactMotion.initial_jump`)."""
+        return self.motion.initial_jump
+
+    @property
+    def g_denominator(self) -> sp.Poly:
+        """The Δ(λ) of the g-basis: integer, content 1 (as the seed prints it)."""
+        return self.motion.g_denominator
+
+    @property
+    def g_coefficients(self) -> sp.ImmutableMatrix:
+        """c_ik with x_i(t) = Σ_k c_ik g_k(t) (the seed's K_j and N_j)."""
+        return self.motion.g_coefficients
+
+    @property
+    def g_indices(self) -> tuple[int, ...]:
+        """The k whose g_k occurs in some coordinate."""
+        return self.motion.g_indices
+
+    @property
+    def g_basis(self) -> dict[int, sp.Expr]:
+        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
+        return self.motion.g_basis
+
+    def g_form(self) -> sp.ImmutableMatrix:
+        """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
+        return self.motion.g_form()
+
+    @property
+    def definitions(self) -> dict:
+        """Named quantity → definition for the names in :attr:`x` (empty for numeric scenes)."""
+        return self.motion.definitions
+
+    def substituted(self) -> sp.ImmutableMatrix:
+        """:attr:`x` with every named quantity replaced by its definition."""
+        return self.motion.substituted()
+
+    @property
+    def poles(self) -> np.ndarray:
+        nodes = [complex(z) for z in self._numeric(0)[0].poles.nodes] if self.pieces else []
+        return np.array(nodes, dtype=complex)
+
+    @property
+    def _spectral_radius(self) -> float:
+        return max((abs(complex(z)) for data in self._numeric(0) for z in data.poles.nodes),
+                   default=0.0)
+
+    @property
+    def _exact_form(self) -> ExactSolution:
+        return self
+
+    def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
+              standalone: bool = False, markdown: bool = False) -> str:
+        """x(t) in LaTeX the way the seed writes it, with every named quantity defined.
+
+        Parameters
+        ----------
+        form : {"terms", "g"}
+            Damped sines and cosines, or x_i = Σ c_ik g_k(t) with the g_k written out.
+        resolvent : bool
+            Also Δ(λ), R(λ) = (λ²I + λB + A)⁻¹ and X(λ).
+        sylvester : bool
+            Also Sylvester's matrices and cos(√A t), sin(√A t)/√A (undamped numeric scenes).
+        standalone : bool
+            A complete ``article`` document (compiles with pdflatex).
+        markdown : bool
+            A Markdown snippet: each block between ``$$`` lines.
+
+        Returns
+        -------
+        str
+            See :mod:`laplace_springs.output.latex` for the conventions (no imaginary unit,
+            algebraic numbers as named constants, θ(t − τ) for switched inputs).
+        """
+        output: Output = "document" if standalone else "markdown" if markdown else "fragment"
+        return solution_latex(self.motion, form=form, resolvent=resolvent, sylvester=sylvester,
+                              output=output)
+
+    def __repr__(self) -> str:
+        body = ", ".join(f"{name}(t) = {expr}" for name, expr in zip(self.scene.names, self.x))
+        return f"ExactSolution({body})"
+
+    # -- evaluation ---------------------------------------------------------------------
+    def _numeric(self, order: int, dps: int = 40) -> tuple[NumericTerms, ...]:
+        key = (order, dps)
+        cache = self.__dict__.setdefault("_numeric_cache", {})
+        if key not in cache:
+            motion = self.motion
+            for _ in range(order):
+                motion = motion.derivative()
+            cache[key] = tuple(numeric_terms(piece.terms, dps=dps) for piece in motion.pieces)
+        return cache[key]
+
+    def _shifted(self, times: Times, delay: sp.Expr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Columns with t ≥ delay and t − delay there as a double-double."""
+        if delay == 0:
+            return np.arange(len(times)), times.hi, times.lo
+        with mpmath.workdps(40):
+            tau = mp_value(delay, 40)
+            tau_hi = float(tau)
+            tau_lo = float(tau - tau_hi)
+        on = np.flatnonzero((times.hi > tau_hi) | ((times.hi == tau_hi) & (times.lo >= tau_lo)))
+        hi, lo = two_diff(times.hi[on], tau_hi, tau_lo)
+        return on, hi, lo + times.lo[on]
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        n = self.scene.n
+        values, bounds = np.zeros((n, len(times))), np.zeros((n, len(times)))
+        for piece, data in zip(self.pieces, self._numeric(order)):
+            on, hi, lo = self._shifted(times, piece.delay)
+            if on.size:
+                part, bound = float_values(data, n, hi, lo)
+                values[:, on] += part
+                bounds[:, on] += bound
+        return values, bounds
+
+    def _mp(self, times: Times, order: int, digits: int, floor: float) -> tuple[list, list]:
+        """mpmath values and bounds (n lists of mpf) good to ``digits``."""
+        n = self.scene.n
+        work = digits + 20
+        with mpmath.workdps(work):
+            total = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
+            bounds = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
+            stamps = [times.mpf(j) for j in range(len(times))]
+        for piece, data in zip(self.pieces, self._numeric(order)):
+            with mpmath.workdps(work):
+                tau = mp_value(piece.delay, work) if piece.delay != 0 else mpmath.mpf(0)
+                on = [j for j, tv in enumerate(stamps) if tv >= tau]
+                shifted = [stamps[j] - tau for j in on]
+            if not on:
+                continue
+            part, bound, _ = mp_values(data, n, shifted, digits, [floor] * len(on))
+            with mpmath.workdps(work):
+                for k, j in enumerate(on):
+                    for i in range(n):
+                        total[i][j] += part[i][k]
+                        bounds[i][j] += bound[i][k]
+        return total, bounds
+
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        digits = max(ESCALATION_DIGITS, math.ceil(-math.log10(target)) + 5)
+        total, bounds = self._mp(times, order, digits, self._floor(order))
+        values = np.array([[float(v) for v in row] for row in total])
+        errors = np.array([[float(b) for b in row] for row in bounds])
+        return values, errors + np.abs(values) * _EPS
+
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        total, bounds = self._mp(times, order, dps + 2, self._floor(order))
+        values = np.empty((self.scene.n, len(times)), dtype=object)
+        errors = np.empty((self.scene.n, len(times)), dtype=object)
+        with mpmath.workdps(dps):
+            for i, row in enumerate(total):
+                for j, v in enumerate(row):
+                    values[i, j] = +v
+                    errors[i, j] = bounds[i][j] + abs(v) * mpmath.mpf(10) ** (-dps)
+        return values, errors
+
+    # -- verification -------------------------------------------------------------------
+    def verify(self, *, samples: Sequence[Any] = DEFAULT_SAMPLES,
+               tolerance: float | None = None) -> Verification:
+        """Check at high precision that :attr:`x` satisfies the equations and initial data.
+
+        The exact expression is differentiated symbolically and M x'' + C x' + K x − f is
+        evaluated at the sample times (also at t = 0⁺, where a massless node's constraint
+        must already hold) with enough digits for ``tolerance`` (default 1e-30, at 40
+        digits). At the start the jump conditions of
+        :func:`laplace_springs.exact.jumps.jump_residuals` are checked: M(x(0⁺) − x0) = 0
+        and M(x'(0⁺) − v0) + C(x(0⁺) − x0) = 0 (plus impulse terms), which for an
+        invertible M is x(0) = x0, x'(0) = v0. Symbolic parameters are given fixed
+        generic values first (the residual is an identity in them).
+        """
+        tolerance = 1e-30 if tolerance is None else float(tolerance)
+        dps = max(40, math.ceil(-math.log10(max(tolerance, 1e-4000))) + 10)
+        s = self.scene
+        generic = generic_values(s.free_symbols)
+        x = sp.Matrix(self.x)
+        v = x.diff(TIME)
+        force = sp.Matrix(s.forcing) if s.forcing is not None and s.is_forced else sp.zeros(s.n, 1)
+        force = force.replace(sp.Heaviside, lambda arg, *_: sp.Heaviside(arg, 1))  # t = 0⁺
+        residual = (s.M * v.diff(TIME) + s.C * v + s.K * x - force).xreplace(generic)
+        residual = residual.replace(sp.DiracDelta, lambda *args: sp.S.Zero)  # 0 off the delays
+        jump = self.initial_jump
+        x, v = (m.replace(sp.DiracDelta, lambda *a: sp.S.Zero) for m in (x, v))
+        start = jump_residuals(s, x.subs(TIME, 0) - s.x0, v.subs(TIME, 0) - s.v0,
+                               jump.impulses, load=self.motion.impulsive_load())
+        start = [sp.sympify(e).xreplace(generic) for e in start]
+        times = _sample_times(samples, [piece.delay for piece in self.pieces])
+        sizes = [*s.x0, *s.v0, *(f.subs(TIME, tv) for f in force.xreplace(generic) for tv in times)]
+        scale = max(1.0, _size([e.replace(sp.DiracDelta, lambda *a: 0) for e in sizes], generic, 20))
+        ode = _size([e.subs(TIME, tv) for e in residual for tv in times], {}, dps)
+        return Verification(ode / scale, _size(start, generic, dps) / scale, tolerance)
+
+
+def _sample_times(samples: Sequence[Any], delays: Sequence[sp.Expr]) -> list[sp.Expr]:
+    """t = 0 and the samples, moved off the switching times of delayed inputs."""
+    times: list[sp.Expr] = [sp.S.Zero]
+    for tv in samples:
+        value = sp.Rational(str(tv))
+        while any(value == d for d in delays):
+            value += sp.Rational(1, 7)
+        times.append(value)
+    return times
+
+
+def _size(exprs: Sequence[Any], values: dict, dps: int) -> float:
+    """max |e| over the expressions, at ``dps`` digits (complex values allowed)."""
+    caches: dict = {}
+    out = 0.0
+    for e in exprs:
+        expr = sp.sympify(e).xreplace(values)
+        try:
+            size = float(abs(mp_value(expr, dps, caches)))
+        except (TypeError, ValueError):
+            size = float(abs(numeric_value(expr, dps)))
+        out = max(out, size)
+    return out
+
+
+
+
+def exact_solution_of(scene: Scene, *, method: str, target: float) -> ExactSolution | None:
+    """The exact solution of a scene solved on another route, where it is affordable
+    (up to :data:`~laplace_springs.policy.EXACT_FORM_MAX_COORDINATES` coordinates)."""
+    if scene.n > EXACT_FORM_MAX_COORDINATES:
+        return None
+    return ExactSolution(exact_motion(scene), reason=f"exact form of a {method} solution",
+                         target=target)
