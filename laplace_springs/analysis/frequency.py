@@ -1,17 +1,19 @@
-"""Frequency response H(iω) = (K − ω²M + iωC)⁻¹: exact, numeric, amplitudes and plots.
+"""Frequency response H(iω) = (K − ω²M + iωC)⁻¹: exact, numeric, and steady amplitudes.
 
 A harmonic force f(t) = F cos ωt drives a stable scene into the steady oscillation
 x(t) = Re[H(iω) F e^{iωt}]: mass j moves with amplitude |(H F)_j| and phase lag
 −arg (H F)_j. The exact H comes from the resolvent's adjugate, H = adj(iω)/Δ(iω).
+The plot of |H| and arg H is :func:`laplace_springs.output.plots.plot_frequency_response`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 import sympy as sp
+from numpy.typing import ArrayLike
 
 from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
@@ -26,7 +28,15 @@ __all__ = ["omega", "frequency_response", "steady_state_amplitude"]
 omega = sp.Symbol("omega", positive=True)
 
 
-def frequency_response(scene: Scene, omegas: Any = None):
+@overload
+def frequency_response(scene: Scene, omegas: None = None) -> sp.ImmutableMatrix: ...
+
+
+@overload
+def frequency_response(scene: Scene, omegas: ArrayLike) -> np.ndarray: ...
+
+
+def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.ImmutableMatrix | np.ndarray:
     """The receptance matrix H(iω) = (K − ω²M + iωC)⁻¹, exactly or at given frequencies.
 
     Parameters

@@ -179,6 +179,8 @@ def _mode(scene: Scene, root: sp.Expr, multiplicity: int) -> Mode:
         re, im = sp.re(root), sp.im(root)
     else:
         re, im = (_simplify(part) for part in sp.expand_complex(root).as_real_imag())
+    kind: ModeKind
+    zeta: sp.Expr | None
     if root == 0:
         kind, wn, zeta = "rigid", sp.S.Zero, None
     elif im == 0:

@@ -1,11 +1,11 @@
 """Scene diagrams in the style of the seed's figures: blocks, zigzag springs, pistons.
 
-:func:`draw_scene` (also :meth:`Scene.draw <laplace_springs.model.scene.Scene.draw>`) draws a
-chain of masses with matplotlib: masses as labelled, translucent blocks (pink, blue,
-purple, as on the seed page), springs as zigzags, dashpots as pistons, walls and
-ceilings hatched, the coordinate arrows x1, x2, ... and the labels k1, m1, μ2 taken
-from the scene's own names. ``layout="vertical"`` hangs the chain from a ceiling (the
-seed's Example 1); ``"horizontal"`` puts it between walls on rollers (Examples 3-5).
+:func:`draw_scene` draws a chain of masses with matplotlib: masses as labelled,
+translucent blocks (pink, blue, purple, as on the seed page), springs as zigzags,
+dashpots as pistons, walls and ceilings hatched, the coordinate arrows x1, x2, ...
+and the labels k1, m1, μ2 taken from the scene's own names. ``layout="vertical"``
+hangs the chain from a ceiling (the seed's Example 1); ``"horizontal"`` puts it between
+walls on rollers (Examples 3-5).
 
 Where things go
 ---------------
@@ -44,6 +44,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.errors import SceneError
+from ..model.numbers import to_exact
 from ..model.scene import Component, Scene
 
 if TYPE_CHECKING:
@@ -286,7 +287,7 @@ def math_label(name: str, value: Any = None) -> str:
     symbol = f"\\{head}" if head.lower() in _GREEK else head
     text = f"{symbol}_{{{tail}}}" if tail else symbol
     if value is not None:
-        text += f" = {sp.latex(sp.sympify(value))}"
+        text += f" = {sp.latex(to_exact(value, name))}"
     return f"${text}$"
 
 
@@ -307,17 +308,21 @@ def _slots(chain: Chain) -> _Slots:
     n = len(chain.masses)
     slots = _Slots({g: [] for g in range(n + 1)}, {i: [] for i in range(n)}, [])
     for component in chain.components:
-        ends = [index.get(node) for node in (component.a, component.b)]
-        if None not in ends:
-            i, j = sorted(ends)
+        a, b = index.get(component.a), index.get(component.b)
+        if a is not None and b is not None:
+            i, j = min(a, b), max(a, b)
             if j == i + 1:
                 slots.gaps[j].append(component)
             else:
                 slots.bridges.append((i, j, component))
             continue
-        mass = ends[0] if ends[0] is not None else ends[1]
-        support = component.b if ends[0] is not None else component.a
-        support_first = ends[0] is None
+        if a is not None:
+            mass, support, support_first = a, component.b, False
+        elif b is not None:
+            mass, support, support_first = b, component.a, True
+        else:
+            raise SceneError(f"cannot draw {component.label or component.kind}: it joins "
+                             f"{component.a} and {component.b}, neither of them a mass")
         if support in _ACROSS_SUPPORTS or (chain.layout == "horizontal" and support == "floor"):
             slots.across[mass].append(component)
         elif n == 1:
@@ -393,6 +398,14 @@ def _piston(p0: np.ndarray, p1: np.ndarray, width: float) -> list[np.ndarray]:
     ]
 
 
+def _to_xy(points: Any, vertical: bool) -> np.ndarray:
+    """Chain coordinates (u, v) as axes coordinates (x, y): a vertical chain runs downwards."""
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    if vertical:
+        return np.column_stack([points[:, 1], -points[:, 0]])
+    return points
+
+
 class _Canvas:
     """Draws in chain coordinates (u along the chain, v across) on matplotlib axes."""
 
@@ -401,10 +414,7 @@ class _Canvas:
         self.vertical = layout == "vertical"
 
     def xy(self, points: Any) -> np.ndarray:
-        points = np.atleast_2d(np.asarray(points, dtype=float))
-        if self.vertical:
-            return np.column_stack([points[:, 1], -points[:, 0]])
-        return points
+        return _to_xy(points, self.vertical)
 
     def line(self, points: Any, **style: Any) -> None:
         xy = self.xy(points)
@@ -617,8 +627,8 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, show_values: bool = Fals
 
 def _limits(layout: str, end: float, v_low: float, v_high: float) -> tuple[float, float, float, float]:
     """(x0, x1, y0, y1) of the drawing."""
-    canvas = _Canvas(None, layout)  # type: ignore[arg-type]
-    corners = canvas.xy([[-_HATCH - 0.1, v_low - _HATCH - 0.1], [end + _HATCH + 0.1, v_high]])
+    corners = _to_xy([[-_HATCH - 0.1, v_low - _HATCH - 0.1], [end + _HATCH + 0.1, v_high]],
+                     layout == "vertical")
     (x0, y0), (x1, y1) = corners.min(axis=0), corners.max(axis=0)
     return x0, x1, y0, y1
 

@@ -27,7 +27,7 @@ display math), a Markdown snippet (each block between ``$$`` lines) and a standa
 Examples
 --------
 >>> import laplace_springs as ls
->>> print(solution_latex(ls.solve(ls.load_scene("vertical-pair"))))
+>>> print(solution_latex(ls.solve(ls.load_scene("vertical-pair"), method="exact").motion))
 \\begin{aligned}
 x_{1}(t) &= \\frac{\\cos{\\left(t \\right)}}{3} + \\frac{\\sin{\\left(t \\right)}}{3} + \\frac{2 \\cos{\\left(2 t \\right)}}{3} - \\frac{\\sin{\\left(2 t \\right)}}{6} \\\\
 x_{2}(t) &= \\frac{2 \\cos{\\left(t \\right)}}{3} + \\frac{2 \\sin{\\left(t \\right)}}{3} - \\frac{2 \\cos{\\left(2 t \\right)}}{3} + \\frac{\\sin{\\left(2 t \\right)}}{6}
@@ -49,7 +49,7 @@ from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion
 from ..exact.named import definitions, named, named_quantities
 from ..exact.resolvent import Resolvent
-from ..exact.sylvester import matrix_function_terms, sylvester_matrices
+from ..exact.sylvester import FunctionName, matrix_function_terms, sylvester_matrices
 from ..model.scene import Scene
 from ..model.symbols import TIME
 
@@ -152,13 +152,8 @@ def _equation_rows(lhs: str, expr: sp.Expr) -> list[str]:
 def _poly_tex(poly: sp.Poly) -> str:
     """A polynomial in descending powers of its variable, coefficients as simple fractions."""
     var = poly.gen
-    terms = [(_simple(c) * var**k) for (k,), c in poly.as_expr().as_poly(var).terms()]
+    terms = [sp.factor(c) * var**k for (k,), c in poly.as_expr().as_poly(var).terms()]
     return _Printer({"order": "none"}).doprint(sp.Add(*terms, evaluate=False))
-
-
-def _simple(expr: sp.Expr) -> sp.Expr:
-    expr = sp.factor(expr)
-    return expr
 
 
 @lru_cache(maxsize=64)
@@ -194,10 +189,11 @@ class _Constants:
     values: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
 
     def register_roots(self, exprs: Sequence[sp.Expr]) -> None:
-        found = set().union(*(sp.sympify(e).atoms(sp.CRootOf) for e in exprs)) if exprs else set()
+        found: set[sp.CRootOf] = set().union(*(e.atoms(sp.CRootOf) for e in exprs))
         count = len(self.roots)
         for root in sorted(found - set(self.roots), key=_root_order):
             count += 1
+            names: tuple[sp.Symbol, ...]
             if _is_real_root(root):
                 names = (sp.Symbol(f"r_{count}", real=True),)
                 self.values[names[0]] = root
@@ -218,7 +214,7 @@ class _Constants:
 
     def replace(self, expr: sp.Expr) -> sp.Expr:
         """``expr`` with coefficients on algebraic numbers named, roots replaced by names."""
-        expr = sp.sympify(expr)
+        expr = sp.sympify(expr, strict=True)
         if not expr.has(sp.CRootOf):
             return expr
         return self._name_coefficients(expr).xreplace(self._root_map())
@@ -289,6 +285,11 @@ def _is_bare_root_part(expr: sp.Expr) -> bool:
 # ---------------------------------------------------------------------------
 # the writer
 # ---------------------------------------------------------------------------
+def _is_step_at_zero(expr: sp.Basic) -> bool:
+    """θ(t): the solution holds for t ≥ 0, where it is 1."""
+    return isinstance(expr, sp.Heaviside) and expr.args[0] == TIME
+
+
 @dataclass
 class LatexWriter:
     """Collects aligned blocks and the names they use; renders them in one of three shapes."""
@@ -303,11 +304,11 @@ class LatexWriter:
     def prepare(self, exprs: Sequence[sp.Expr]) -> list[sp.Expr]:
         """Drop θ(t), note θ(t − τ), name algebraic numbers; returns the printable forms."""
         out = []
-        exprs = [sp.sympify(e).replace(lambda h: isinstance(h, sp.Heaviside) and h.args[0] == TIME,
-                                       lambda h: sp.S.One) for e in exprs]
-        exprs = self._distinct_names(exprs)
-        self.constants.register_roots(exprs)
-        for e in exprs:
+        given = [sp.sympify(e, strict=True) for e in exprs]
+        steps_dropped = [e.replace(_is_step_at_zero, lambda h: sp.S.One) for e in given]
+        renamed = self._distinct_names(steps_dropped)
+        self.constants.register_roots(renamed)
+        for e in renamed:
             self.has_step |= e.has(sp.Heaviside)
             self.named.append(e)
             out.append(self.constants.replace(e))
@@ -375,7 +376,13 @@ class LatexWriter:
 
 
 def as_markdown(blocks: Sequence[str]) -> str:
-    """Each block between ``$$`` lines (Markdown with KaTeX/MathJax display math)."""
+    """Each block between ``$$`` lines (Markdown with KaTeX/MathJax display math).
+
+    >>> print(as_markdown(["x &= 1"]), end="")
+    $$
+    x &= 1
+    $$
+    """
     return "\n\n".join(f"$$\n{block}\n$$" for block in blocks) + "\n"
 
 
@@ -399,7 +406,25 @@ def _escape_text(text: str) -> str:
 
 
 def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | None = None) -> str:
-    """A standalone ``article`` (amsmath, amssymb, geometry), each block an ``align*``."""
+    """A standalone ``article`` (amsmath, amssymb, geometry), each block an ``align*``.
+
+    ``title`` becomes an unnumbered section and ``text`` a paragraph, both with LaTeX's
+    special characters escaped.
+
+    >>> print(as_document(["x &= 1"], title="A & B", text="Two  words."), end="")
+    \\documentclass[11pt]{article}
+    \\usepackage[utf8]{inputenc}
+    \\usepackage{amsmath,amssymb}
+    \\usepackage[margin=2cm,landscape]{geometry}
+    \\allowdisplaybreaks
+    \\begin{document}
+    \\section*{A \\& B}
+    <BLANKLINE>
+    Two words.
+    <BLANKLINE>
+    x &= 1
+    \\end{document}
+    """
     parts = []
     if title:
         parts.append(rf"\section*{{{_escape_text(title)}}}")
@@ -412,34 +437,35 @@ def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | 
 # ---------------------------------------------------------------------------
 # solution, resolvent, Sylvester
 # ---------------------------------------------------------------------------
-def _motion_rows(writer: LatexWriter, sol: ExactMotion, form: str) -> list[str]:
-    names = [latex_name(n) for n in sol.scene.names]
+def _motion_rows(writer: LatexWriter, motion: ExactMotion, form: str) -> list[str]:
+    names = [latex_name(n) for n in motion.scene.names]
     if form == "terms":
-        return [row for name, e in zip(names, sol.x) for row in writer.equation(f"{name}(t)", e)]
+        return [row for name, e in zip(names, motion.x) for row in writer.equation(f"{name}(t)", e)]
     if form != "g":
         raise ValueError(f"form must be 'terms' or 'g', got {form!r}")
-    C, basis = sol.g_coefficients, sol.g_basis
+    C, basis = motion.g_coefficients, motion.g_basis
     rows = []
-    coefficients = iter(writer.prepare([C[i, k] for i in range(C.rows) for k in sol.g_indices]))
+    coefficients = iter(writer.prepare([C[i, k] for i in range(C.rows) for k in motion.g_indices]))
     for name in names:
-        total = sp.Add(*(next(coefficients) * _g_function(k) for k in sol.g_indices))
+        total = sp.Add(*(next(coefficients) * _g_function(k) for k in motion.g_indices))
         rows += _equation_rows(f"{name}(t)", total)
-    rows.append(rf"\Delta(\lambda) &= {_poly_tex(sol.g_denominator)}")
-    for k, expr in zip(sol.g_indices, writer.prepare([basis[k] for k in sol.g_indices])):
+    rows.append(rf"\Delta(\lambda) &= {_poly_tex(motion.g_denominator)}")
+    for k, expr in zip(motion.g_indices, writer.prepare([basis[k] for k in motion.g_indices])):
         lhs = (rf"g_{{{k}}}(t) = \mathcal{{L}}^{{-1}}\left[\frac{{\lambda^{{{k}}}}}"
                rf"{{\Delta(\lambda)}}\right]")
         rows += _equation_rows(lhs, expr)
     return rows
 
 
-def solution_latex(sol: ExactMotion, *, form: str = "terms", resolvent: bool = False,
+def solution_latex(motion: ExactMotion, *, form: str = "terms", resolvent: bool = False,
                    sylvester: bool = False, output: Output = "fragment") -> str:
     """x(t) of an exact motion in LaTeX, with the definitions of everything named in it.
 
     Parameters
     ----------
-    sol : ExactMotion
-        The exact motion of a solved scene (``solution.motion``).
+    motion : ExactMotion
+        The exact motion of a scene (``exact_motion(scene)``, or ``solution.motion`` of an
+        :class:`~laplace_springs.ExactSolution`).
     form : {"terms", "g"}
         "terms": damped sines and cosines; "g": x_i(t) = Σ_k c_ik g_k(t) with the seed's
         g_k(t) = L⁻¹[λ^k/Δ(λ)] written out.
@@ -455,18 +481,27 @@ def solution_latex(sol: ExactMotion, *, form: str = "terms", resolvent: bool = F
     Returns
     -------
     str
+
+    Examples
+    --------
+    The seed's Example 2 through its g-functions, as a Markdown snippet:
+
+    >>> import laplace_springs as ls
+    >>> motion = ls.solve(ls.load_scene("vertical-pair-damped"), method="exact").motion
+    >>> print(solution_latex(motion, form="g", output="markdown").splitlines()[4])
+    \\Delta(\\lambda) &= 25 \\lambda^{4} + 10 \\lambda^{3} + 126 \\lambda^{2} + 25 \\lambda + 100 \\\\
     """
     writer = LatexWriter()
-    writer.blocks.append(_motion_rows(writer, sol, form))
+    writer.blocks.append(_motion_rows(writer, motion, form))
     if resolvent:
-        writer.blocks.append(_resolvent_rows(writer, sol.resolvent))
+        writer.blocks.append(_resolvent_rows(motion.resolvent))
     if sylvester:
-        writer.blocks.append(_sylvester_rows(writer, sol.scene))
+        writer.blocks.append(_sylvester_rows(writer, motion.scene))
     writer.blocks[0] += writer.where_rows()
-    return writer.render(output, title=sol.scene.title or None)
+    return writer.render(output, title=motion.scene.title or None)
 
 
-def _resolvent_rows(writer: LatexWriter, R: Resolvent) -> list[str]:
+def _resolvent_rows(R: Resolvent) -> list[str]:
     delta = R.integer_characteristic_polynomial.as_expr()
     normalized = R.normalized()
     scaled = normalized.applyfunc(lambda e: sp.factor_terms(sp.expand(sp.cancel(e * delta))))
@@ -486,6 +521,17 @@ def resolvent_latex(R: Resolvent, *, output: Output = "fragment") -> str:
     Δ(λ) is scaled as the seed prints it (integer coefficients, content 1) for numeric
     scenes, monic for symbolic ones.
 
+    Parameters
+    ----------
+    R : Resolvent
+        The resolvent of a scene (:func:`laplace_springs.resolvent`).
+    output : {"fragment", "markdown", "document"}
+        An ``aligned`` block, a Markdown snippet or a standalone document.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> import laplace_springs as ls
@@ -493,7 +539,7 @@ def resolvent_latex(R: Resolvent, *, output: Output = "fragment") -> str:
     \\Delta(\\lambda) &= 25 \\lambda^{4} + 10 \\lambda^{3} + 126 \\lambda^{2} + 25 \\lambda + 100 \\\\
     """
     writer = LatexWriter()
-    writer.blocks.append(_resolvent_rows(writer, R))
+    writer.blocks.append(_resolvent_rows(R))
     return writer.render(output, title=R.scene.title or None)
 
 
@@ -506,8 +552,10 @@ def _sylvester_rows(writer: LatexWriter, scene: Scene) -> list[str]:
     rows = [rf"A = M^{{-1}} K &= {_tex(sp.Matrix(A))}"]
     for value, shown in zip(Z, eigen):
         rows.append(rf"Z_{{{_tex(shown)}}} &= {_tex(sp.Matrix(Z[value]))}")
-    for lhs, kind in ((r"\Psi(t) = \cos\left(\sqrt{A}\, t\right)", "cos_sqrt"),
-                      (r"\Phi(t) = \frac{\sin\left(\sqrt{A}\, t\right)}{\sqrt{A}}", "sinc_sqrt")):
+    functions: tuple[tuple[str, FunctionName], ...] = (
+        (r"\Psi(t) = \cos\left(\sqrt{A}\, t\right)", "cos_sqrt"),
+        (r"\Phi(t) = \frac{\sin\left(\sqrt{A}\, t\right)}{\sqrt{A}}", "sinc_sqrt"))
+    for lhs, kind in functions:
         pairs = matrix_function_terms(A, kind, TIME)
         bases = writer.prepare([basis for basis, _ in pairs])
         body = " + ".join(rf"{_tex(b)} {_tex(sp.Matrix(M))}" for b, (_, M) in zip(bases, pairs))
@@ -518,6 +566,22 @@ def _sylvester_rows(writer: LatexWriter, scene: Scene) -> list[str]:
 
 def sylvester_latex(scene: Scene, *, output: Output = "fragment") -> str:
     """Sylvester's auxiliary matrices and Ψ(t), Φ(t) of an undamped numeric scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Undamped, with numeric M and K.
+    output : {"fragment", "markdown", "document"}
+        An ``aligned`` block, a Markdown snippet or a standalone document.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        For a damped scene or symbolic M, K.
 
     Examples
     --------
@@ -535,6 +599,22 @@ def matrix_latex(scene: Scene, x: sp.MatrixBase, *, standalone: bool = False,
                  markdown: bool = False) -> str:
     """x_i(t) = ... rows of a motion given as expressions (Float coefficients allowed).
 
+    What solutions without an exact form print (large scenes on the modal or certified
+    route): no named constants, no "where" list.
+
+    Parameters
+    ----------
+    scene : Scene
+        Gives the coordinate names and the document's title.
+    x : sympy.Matrix
+        One expression in :data:`laplace_springs.t` per coordinate.
+    standalone, markdown : bool
+        A standalone document, or a Markdown snippet, instead of an ``aligned`` block.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> import laplace_springs as ls
@@ -543,7 +623,7 @@ def matrix_latex(scene: Scene, x: sp.MatrixBase, *, standalone: bool = False,
     x_{1}(t) &= \\cos{\\left(2 t \\right)}
     """
     rows = [row for name, e in zip(scene.names, x)
-            for row in _equation_rows(f"{latex_name(name)}(t)", sp.sympify(e))]
+            for row in _equation_rows(f"{latex_name(name)}(t)", sp.sympify(e, strict=True))]
     output: Output = "document" if standalone else "markdown" if markdown else "fragment"
     blocks = [_aligned(rows)]
     if output == "markdown":

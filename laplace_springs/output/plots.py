@@ -118,7 +118,31 @@ def default_t_end(solution: Motion) -> float:
 
 
 def time_grid(solution: Motion, t_end: float | None = None, samples: int = 800) -> np.ndarray:
-    """Sample times from 0 to ``t_end``: at least ``samples``, and 40 per fastest period."""
+    """Sample times from 0 to ``t_end``: at least ``samples``, and 40 per fastest period.
+
+    Parameters
+    ----------
+    solution : Motion
+        A solution (any route); its poles give the default span and the fastest period.
+    t_end : float, optional
+        Last time; :func:`default_t_end` when omitted.
+    samples : int
+        Minimum number of times (at most 200 000 are returned).
+
+    Returns
+    -------
+    numpy.ndarray
+        Equally spaced times, from 0 to ``t_end``.
+
+    Examples
+    --------
+    Example 5 oscillates at up to 33.4 rad/s, so its 5 s need more than 800 samples:
+
+    >>> import laplace_springs as ls
+    >>> times = time_grid(ls.solve(ls.load_scene("three-dashpots")))
+    >>> len(times), float(times[0]), float(times[-1])
+    (1065, 0.0, 5.0)
+    """
     t_end = default_t_end(solution) if t_end is None else float(t_end)
     if not t_end > 0:
         raise ValueError(f"t_end must be positive, got {t_end}")
@@ -130,6 +154,9 @@ def time_grid(solution: Motion, t_end: float | None = None, samples: int = 800) 
 
 def motion(solution: Motion, times: Any) -> tuple[np.ndarray, np.ndarray]:
     """Positions and velocities at ``times`` in float64, each of shape (n, len(times)).
+
+    Both come from ``solution.evaluate`` (velocities with ``derivative=1``), so the
+    solution's error contract holds for them; no finite differences are taken.
 
     Examples
     --------
@@ -158,18 +185,14 @@ class Energy:
     dissipated : numpy.ndarray
         ∫₀ᵗ vᵀ C v dt, the work done against the dashpots (non-decreasing).
     work : numpy.ndarray
-        ∫₀ᵗ fᵀ v dt, the work done by the external forces (zero for a free motion).
+        ∫₀ᵗ fᵀ v dt, the work done by the external forces (zeros for a free motion).
     """
 
     times: np.ndarray
     kinetic: np.ndarray
     potential: np.ndarray
     dissipated: np.ndarray
-    work: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        if self.work is None:
-            object.__setattr__(self, "work", np.zeros_like(self.times))
+    work: np.ndarray
 
     @property
     def mechanical(self) -> np.ndarray:
@@ -223,7 +246,7 @@ def energy(solution: Motion, times: Any) -> Energy:
         return np.concatenate([[0.0], np.cumsum(steps)])
 
     dissipated = integral(_quadratic(C, v_nodes))
-    work = None
+    work = np.zeros_like(times)
     force = _force_values(solution.scene, nodes)
     if force is not None:
         weights = _force_weights(solution.scene)
@@ -241,8 +264,8 @@ def _force_weights(scene: Scene) -> np.ndarray:
 
 def _force_values(scene: Scene, times: np.ndarray) -> np.ndarray | None:
     """f(t) at ``times``, shape (n, len(times)); None for a free motion."""
-    forcing = getattr(scene, "forcing", None)
-    if forcing is None or all(entry == 0 for entry in forcing):
+    forcing = scene.forcing
+    if forcing is None or not scene.is_forced:
         return None
     if any(entry.has(sp.DiracDelta) for entry in forcing):
         raise SceneError("energy: impulsive forces (DiracDelta) deliver their work in an instant; "
@@ -346,6 +369,10 @@ def plot_phase(solution: Motion, ax: Axes | None = None, *, t_end: float | None 
     coordinates : sequence of int, optional
         Which coordinates (0-based); all when omitted.
 
+    Returns
+    -------
+    matplotlib.axes.Axes
+
     Examples
     --------
     >>> from matplotlib.figure import Figure
@@ -377,6 +404,15 @@ def plot_energy(solution: Motion, ax: Axes | None = None, *, t_end: float | None
                 title: str | bool = True) -> Axes:
     """Kinetic, potential and dissipated energy over time, and their constant sum.
 
+    For a driven scene the work of the forces is drawn too, and the dashed line is the
+    total minus that work (the initial energy again). The parameters are those of
+    :func:`plot_motion` (``energy_unit`` labels the energy axis); the numbers are those
+    of :func:`energy`.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
     Examples
     --------
     >>> from matplotlib.figure import Figure
@@ -406,27 +442,52 @@ def plot_energy(solution: Motion, ax: Axes | None = None, *, t_end: float | None
     return ax
 
 
+def _root_figure(ax: Axes) -> Figure:
+    """The figure that holds ``ax``, through any subfigures (matplotlib 3.8 to 3.11)."""
+    from matplotlib.figure import Figure, SubFigure
+
+    parent = ax.get_figure()
+    while isinstance(parent, SubFigure):
+        parent = parent.get_figure()
+    if not isinstance(parent, Figure):
+        raise ValueError("the axes belong to no figure")
+    return parent
+
+
 def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
-                            outputs: Sequence[int] | None = None, ax: Any = None) -> Figure:
+                            outputs: Sequence[int] | None = None,
+                            ax: tuple[Axes, Axes] | None = None) -> Figure:
     """Amplitude and phase of the response to a unit harmonic force, on log axes.
+
+    The amplitude of coordinate i is |H(iω)[i, force]| with H(iω) = (K − ω²M + iωC)⁻¹
+    (:func:`laplace_springs.analysis.frequency.frequency_response`); the phase is
+    arg H in degrees, unwrapped along ω. Dashed vertical lines and dots mark the damped
+    natural frequencies of the oscillatory modes (the resonance peaks).
 
     Parameters
     ----------
     scene : Scene
         Numeric entries.
     omegas : array_like, optional
-        Frequencies; by default 4000 log-spaced points spanning the natural frequencies
-        from a tenth of the lowest to ten times the highest.
+        Positive frequencies (log axes); by default 4000 log-spaced points spanning the
+        natural frequencies from a tenth of the lowest to ten times the highest.
     force : int
-        The coordinate the unit force acts on.
+        The coordinate the unit force acts on (0-based).
     outputs : sequence of int, optional
-        Coordinates to draw (default all).
+        Coordinates to draw (0-based; default all).
     ax : pair of matplotlib Axes, optional
-        (amplitude axes, phase axes); a new figure by default.
+        (amplitude axes, phase axes); a new pyplot figure by default.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    SceneError
+        When the scene has symbols.
+    ValueError
+        For a coordinate out of range, or frequencies that are not positive and finite.
 
     Examples
     --------
@@ -434,35 +495,44 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
     >>> matplotlib.use("Agg")
     >>> from laplace_springs.model.scene_files import load_scene
     >>> fig = plot_frequency_response(load_scene("vertical-pair-damped"))
-    >>> [a.get_xscale() for a in fig.axes]
-    ['log', 'log']
+    >>> [a.get_xscale() for a in fig.axes], [a.get_yscale() for a in fig.axes]
+    (['log', 'log'], ['log', 'linear'])
+    >>> [line.get_label() for line in fig.axes[0].get_lines() if line.get_label()[0] == "|"]
+    ['|x1| / F', '|x2| / F']
     """
-    import matplotlib.pyplot as plt
-
+    _check_numeric(scene)
+    rows = list(range(scene.n) if outputs is None else outputs)
+    for index in (force, *rows):
+        if not 0 <= index < scene.n:
+            raise ValueError(f"coordinate {index} is out of range for a scene with {scene.n} "
+                             "coordinates (0-based)")
     found = modes(scene)
-    peaks = sorted(float(m.damped_frequency) for m in found if m.kind == "oscillatory")
+    peaks = np.array(sorted(float(m.damped_frequency) for m in found if m.kind == "oscillatory"))
     if omegas is None:
         positive = [float(m.natural_frequency) for m in found if m.kind != "rigid"]
         low, high = (min(positive) / 10, max(positive) * 10) if positive else (0.01, 100)
         omegas = np.union1d(np.geomspace(low, high, 4000), peaks)
-    w = np.asarray(omegas, dtype=float)
+    w = np.atleast_1d(np.asarray(omegas, dtype=float))
+    if not np.all(np.isfinite(w) & (w > 0)):
+        raise ValueError("omegas must be positive and finite (they are drawn on log axes)")
     H = frequency_response(scene, w)[:, :, force]
     if ax is None:
+        import matplotlib.pyplot as plt
+
         fig, (amp_ax, phase_ax) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
     else:
         amp_ax, phase_ax = ax
-        fig = amp_ax.figure
-    rows = range(scene.n) if outputs is None else outputs
+        fig = _root_figure(amp_ax)
     for i in rows:
         label = scene.names[i]
-        line, = amp_ax.loglog(w, np.abs(H[:, i]), label=f"|{label}| / F")
+        (line,) = amp_ax.loglog(w, np.abs(H[:, i]), label=f"|{label}| / F")
         phase_ax.semilogx(w, np.degrees(np.unwrap(np.angle(H[:, i]))), color=line.get_color(),
                           label=label)
-    for peak in peaks:  # resonance peaks: the damped natural frequencies
+    at_peaks = np.abs(frequency_response(scene, peaks)[:, rows, force])
+    for peak, amplitudes in zip(peaks, at_peaks):  # resonance peaks: the damped natural frequencies
         for axis in (amp_ax, phase_ax):
             axis.axvline(peak, color="0.6", linestyle="--", linewidth=0.8)
-        k = int(np.argmin(np.abs(w - peak)))
-        amp_ax.plot([peak] * len(rows), np.abs(H[k, list(rows)]), "o", color="0.25", markersize=4)
+        amp_ax.plot([peak] * len(rows), amplitudes, "o", color="0.25", markersize=4)
         amp_ax.text(peak, 0.03, f" ω = {peak:.4g}", transform=amp_ax.get_xaxis_transform(),
                     rotation=90, va="bottom", ha="right", fontsize=8, color="0.3")
     amp_ax.set_ylabel("amplitude per unit force (m/N)")
@@ -479,17 +549,35 @@ def overview_figure(solution: Motion, *, t_end: float | None = None) -> Figure:
     """A figure with the scene's diagram above its motion plot (the CLI's ``--plot``).
 
     Built on :class:`matplotlib.figure.Figure`, without pyplot, so it needs no
-    display; save it with ``figure.savefig(path)``. Scenes that cannot be drawn get
-    the motion plot alone.
+    display; save it with ``figure.savefig(path)``. A vertical scene's diagram goes
+    beside the plot. Scenes that cannot be drawn get a note in place of the diagram.
+
+    Parameters
+    ----------
+    solution : Motion
+        A solution (any route).
+    t_end : float, optional
+        Last time of the motion plot; :func:`default_t_end` when omitted.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> figure = overview_figure(ls.solve(ls.load_scene("wall-pair")))
+    >>> [ax.get_title() for ax in figure.axes]
+    ['Example 3: two masses between walls, three springs', 'Mass Position vs. Time']
     """
     from matplotlib.figure import Figure
 
     if solution.scene.layout == "vertical":  # a tall diagram beside the plot
         figure = Figure(figsize=(13.0, 6.0), layout="constrained")
-        top, bottom = figure.subfigures(1, 2, width_ratios=(1.0, 2.6))
+        top, bottom = figure.subfigures(1, 2, squeeze=False, width_ratios=(1.0, 2.6)).ravel()
     else:
         figure = Figure(figsize=(9.0, 7.0), layout="constrained")
-        top, bottom = figure.subfigures(2, 1, height_ratios=(1.0, 2.2))
+        top, bottom = figure.subfigures(2, 1, squeeze=False, height_ratios=(1.0, 2.2)).ravel()
     ax = top.subplots()
     try:
         draw_scene(solution.scene, ax, title=True, label_size=13)

@@ -6,14 +6,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import sympy as sp  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import sympy as sp
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
 
-import laplace_springs as ls  # noqa: E402
-from laplace_springs.output.drawing import chain_of, draw_scene, math_label, physical_matrices  # noqa: E402
+import laplace_springs as ls
+from laplace_springs.output.drawing import chain_of, draw_scene, math_label, physical_matrices
 
 
 def _axes():
@@ -32,7 +33,7 @@ def _blocks(ax) -> list[Rectangle]:
 @pytest.mark.parametrize("name", sorted(ls.bundled_scenes()))
 def test_every_bundled_scene_draws_with_its_own_labels(name):
     scene = ls.load_scene(name)
-    ax = scene.draw(_axes())
+    ax = draw_scene(scene, _axes())
     texts = _texts(ax)
     expected = {math_label(c.label) for c in scene.components}
     expected |= {math_label(m) for m in scene.mass_names} | {math_label(x) for x in scene.names}
@@ -43,7 +44,7 @@ def test_every_bundled_scene_draws_with_its_own_labels(name):
 
 def test_vertical_pair_hangs_from_the_ceiling_like_example_1():
     # Seed figure: ceiling on top, k1, m1, k2, m2 downwards; arrows x1, x2 point down.
-    ax = ls.load_scene("vertical-pair").draw(_axes())
+    ax = draw_scene(ls.load_scene("vertical-pair"), _axes())
     texts = _texts(ax)
     ys = [texts[label][1] for label in ("$k_{1}$", "$m_{1}$", "$k_{2}$", "$m_{2}$")]
     assert ys == sorted(ys, reverse=True)
@@ -54,7 +55,7 @@ def test_vertical_pair_hangs_from_the_ceiling_like_example_1():
 
 
 def test_wall_pair_runs_left_to_right_like_example_3():
-    ax = ls.load_scene("wall-pair").draw(_axes())
+    ax = draw_scene(ls.load_scene("wall-pair"), _axes())
     texts = _texts(ax)
     xs = [texts[label][0] for label in ("$k_{1}$", "$m_{1}$", "$k_{2}$", "$m_{2}$", "$k_{3}$")]
     assert xs == sorted(xs)
@@ -63,7 +64,7 @@ def test_wall_pair_runs_left_to_right_like_example_3():
 
 
 def test_parallel_spring_and_dashpot_share_a_gap_like_example_5():
-    ax = ls.load_scene("three-dashpots").draw(_axes())
+    ax = draw_scene(ls.load_scene("three-dashpots"), _axes())
     texts = _texts(ax)
     for j in (1, 2, 3):
         k, mu = texts[f"$k_{{{j}}}$"], texts[f"$\\mu_{{{j}}}$"]
@@ -85,14 +86,14 @@ def test_matrix_scene_is_read_as_a_chain():
     found = {(c.kind, c.a, c.b, c.value) for c in chain.components}
     given = {(c.kind, c.a, c.b, c.value) for c in scene.components}
     assert found == given
-    assert len(_blocks(plain.draw(_axes()))) == 2
+    assert len(_blocks(draw_scene(plain, _axes()))) == 2
 
 
 def test_normalized_example_1_is_rescaled_to_masses():
     # A = [[3, -1], [-2, 2]] is M⁻¹K for m2/m1 = 1/2 (the seed's (1.1) with k1 = 2, k2 = 1).
     scene = ls.Scene.from_normalized(A=[[3, -1], [-2, 2]], x0=[1, 0], v0=[0, 0], layout="vertical")
     M, C, K = physical_matrices(scene)
-    assert M == sp.diag(1, sp.Rational(1, 2))
+    assert M.tolist() == [[1, 0], [0, sp.Rational(1, 2)]]
     assert (M.inv() * K).tolist() == [[3, -1], [-2, 2]]
     assert [c.label for c in chain_of(scene).components] == ["k1", "k2"]
 
@@ -104,13 +105,13 @@ def test_normalized_example_1_is_rescaled_to_masses():
 def test_matrix_scene_that_is_no_chain_raises(K, message):
     scene = ls.Scene.from_matrices(M=[[1, 0], [0, 1]], K=K, x0=[1, 0], v0=[0, 0])
     with pytest.raises(ls.SceneError, match=message):
-        scene.draw(_axes())
+        draw_scene(scene, _axes())
 
 
 def test_one_way_coupling_raises():
     scene = ls.Scene.from_normalized(A=[[2, -1], [0, 1]], x0=[1, 0], v0=[0, 0])
     with pytest.raises(ls.SceneError, match="one-way coupling"):
-        scene.draw(_axes())
+        draw_scene(scene, _axes())
 
 
 def test_longer_chain_with_bridge_and_ground_dashpot():
@@ -119,16 +120,14 @@ def test_longer_chain_with_bridge_and_ground_dashpot():
         springs={"k1": ("wall", "m1", 1), "k2": ("m1", "m2", 1), "k3": ("m2", "m3", 1),
                  "k4": ("m1", "m3", 2), "k5": ("m3", "wall", 1)},
         dashpots={"c2": ("ground", "m2", 1)})
-    ax = scene.draw(_axes())
+    ax = draw_scene(scene, _axes())
     texts = _texts(ax)
     assert texts["$k_{4}$"][1] > texts["$x_{1}$"][1]  # routed over the blocks
     assert texts["$c_{2}$"][1] < min(b.get_y() for b in _blocks(ax))  # below the blocks
 
 
 def test_new_figure_is_sized_to_the_drawing():
-    import matplotlib.pyplot as plt
-
-    ax = ls.load_scene("vertical-pair").draw()
+    ax = draw_scene(ls.load_scene("vertical-pair"))
     width, height = ax.figure.get_size_inches()
     assert height > width  # a hanging chain is tall
     plt.close(ax.figure)

@@ -14,14 +14,16 @@ import os
 import re
 import shutil
 import subprocess
+from decimal import Decimal
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import laplace_springs as ls
+from laplace_springs.bench.reference import reference_forced_motion, reference_motion
+from laplace_springs.cli import main as cli_main
 from laplace_springs.output.latex import LatexWriter, resolvent_latex, sylvester_latex
-from laplace_springs.bench.reference import reference_motion
 
 parse_latex = pytest.importorskip("sympy.parsing.latex").parse_latex
 pytest.importorskip("antlr4")
@@ -45,8 +47,8 @@ def rows(block: str) -> list[str]:
 def equations(block: str) -> list[tuple[str, str]]:
     """(lhs, rhs) pairs with continuation rows (``&\\quad ...``) joined."""
     out: list[list[str]] = []
-    for row in rows(block):
-        row = row.replace(r"\text{where}\quad ", "")
+    for raw in rows(block):
+        row = raw.replace(r"\text{where}\quad ", "")
         if row.startswith(r"&\quad"):
             out[-1][1] += " " + row[len(r"&\quad"):].strip()
         else:
@@ -83,7 +85,7 @@ def name_values(block: str) -> dict[str, sp.Expr]:
 def motion_rows(text: str) -> tuple[list[tuple[str, str]], dict]:
     first = blocks(text)[0]
     eqs = equations(first)
-    return [(l, r) for l, r in eqs if l.endswith("(t)")], name_values(first)
+    return [(lhs, rhs) for lhs, rhs in eqs if lhs.endswith("(t)")], name_values(first)
 
 
 def numeric(expr: sp.Expr, values: dict, time: str) -> complex:
@@ -147,7 +149,7 @@ def test_g_form_round_trip():
     lam = sp.Symbol("lambda")
     assert sp.expand(parse(delta) - (25 * lam**4 + 10 * lam**3 + 126 * lam**2 + 25 * lam + 100)) == 0
     reference = reference_motion(scene, TIMES, dps=30)
-    for i, (lhs, rhs) in enumerate(eqs[:scene.n]):
+    for i, (_, rhs) in enumerate(eqs[:scene.n]):
         expr = parse(rhs).replace(lambda f: isinstance(f, sp.Function) and str(f.func).startswith("g_"),
                                   lambda f: g[int(str(f.func).strip("g_{}"))])
         for time, ref in zip(TIMES, reference[i]):
@@ -171,7 +173,8 @@ def test_standalone_document_compiles(tmp_path):
         path.write_text(ls.solve(ls.load_scene(name)).latex(standalone=True, resolvent=True),
                         encoding="utf-8")
         done = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", path.name],
-                              cwd=tmp_path, capture_output=True, text=True, timeout=120)
+                              cwd=tmp_path, capture_output=True, text=True, timeout=120,
+                              check=False)
         assert done.returncode == 0, done.stdout[-2000:]
 
 
@@ -228,9 +231,9 @@ def test_example3_symbolic_latex_round_trip():
     values = {f"{k[0]}_{{{k[1]}}}": sp.Rational(v) for k, v in SEED3.items()}
     for lhs, rhs in eqs:  # definitions in reading order: each uses earlier names only
         if not lhs.endswith("(t)"):
-            rhs = rhs.split("&&")[0]
-            values[str(parse(lhs))] = sp.N(parse(rhs).xreplace(
-                {s: values[str(s)] for s in parse(rhs).free_symbols}), 30)
+            definition = parse(rhs.split("&&")[0])
+            values[str(parse(lhs))] = sp.N(definition.xreplace(
+                {s: values[str(s)] for s in definition.free_symbols}), 30)
     assert {"omega_{1}", "omega_{2}"} <= set(values)
     reference = reference_motion(example3(SEED3), TIMES, dps=30)
     motion = [rhs for lhs, rhs in eqs if lhs.endswith("(t)")]
@@ -247,7 +250,7 @@ def _katex_available() -> bool:
     if shutil.which("node") is None:
         return False
     done = subprocess.run(["node", "-e", "require('katex')"], capture_output=True,
-                          env={**os.environ}, timeout=30)
+                          env={**os.environ}, timeout=30, check=False)
     return done.returncode == 0
 
 
@@ -264,7 +267,7 @@ def test_katex_renders_every_block():
               ".readFileSync(0, 'utf8')); for (const tex of input) { katex.renderToString(tex, "
               "{displayMode: true, throwOnError: true, strict: 'error'}); } console.log(input.length);")
     done = subprocess.run(["node", "-e", script], input=json.dumps(texts), capture_output=True,
-                          text=True, timeout=120)
+                          text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr[-2000:]
     assert int(done.stdout) == len(texts)
 
@@ -276,24 +279,59 @@ def test_numbers_in_where_rows_are_plain_decimals():
 
 
 def test_cli_writes_a_standalone_document(tmp_path, capsys):
-    from laplace_springs.cli import main
     path = tmp_path / "wall-pair.tex"
-    assert main(["solve", "wall-pair", "--latex", "--standalone", "-o", str(path)]) == 0
+    assert cli_main(["solve", "wall-pair", "--latex", "--standalone", "-o", str(path)]) == 0
     text = path.read_text(encoding="utf-8")
     assert text.startswith("\\documentclass") and "\\end{document}" in text
     assert str(path) in capsys.readouterr().out
-    assert main(["solve", "wall-pair", "--standalone"]) == 2
+    assert cli_main(["solve", "wall-pair", "--standalone"]) == 2
     assert "--latex" in capsys.readouterr().err
 
 
-def test_resolvent_method_and_markdown():
-    R = ls.resolvent(ls.load_scene("wall-pair"))
-    assert R.latex() == resolvent_latex(R)
-    snippet = R.latex(markdown=True)
-    assert snippet.startswith("$$\n") and snippet.rstrip().endswith("$$")
-    for row in rows(blocks(R.latex())[0]):
+def _bmatrix_cells(text: str) -> list[list[sp.Expr]]:
+    matrix = re.search(r"\\begin\{bmatrix\}(.*?)\\end\{bmatrix\}", text).group(1)
+    return [[parse(cell) for cell in row.split("&")] for row in matrix.split(r"\\")]
+
+
+def test_resolvent_latex_of_example_3_is_the_textbook_inverse():
+    # wall-pair: P(λ) = λ²M + K = [[λ² + k1 + k2, −k2], [−k2, m2λ² + k2 + k3]] (m1 = 1), and the
+    # seed's R(λ) = (λ²I + A)⁻¹ = P⁻¹M, with P⁻¹ from the 2x2 formula [[d, −b], [−c, a]]/(ad − bc).
+    lam = sp.Symbol("lambda")
+    m1, m2, k1, k2, k3 = 1, sp.Rational(2, 3), sp.Rational(3, 10), sp.Rational(2, 25), sp.Rational(1, 5)
+    a, b, c, d = m1 * lam**2 + k1 + k2, -k2, -k2, m2 * lam**2 + k2 + k3
+    det = a * d - b * c
+    R = sp.Matrix([[d, -b], [-c, a]]) / det * sp.diag(m1, m2)
+    X = R * sp.Matrix([lam * sp.Rational(-8, 100) + sp.Rational(15, 100),
+                       lam * sp.Rational(4, 10) - sp.Rational(3, 10)])  # R(λ)(λ x0 + v0)
+
+    text = resolvent_latex(ls.resolvent(ls.load_scene("wall-pair")))
+    eqs = equations(blocks(text)[0])
+    (delta,) = [rhs for lhs, rhs in eqs if lhs == r"\Delta(\lambda)"]
+    delta = parse(delta).doit()
+    assert sp.Poly(delta, lam).is_primitive and sp.cancel(delta / det).is_Rational  # integer, content 1
+    (matrix,) = [rhs for lhs, rhs in eqs if lhs.startswith("R(")]
+    assert matrix.startswith(r"\frac{1}{\Delta(\lambda)}")
+    cells = sp.Matrix(_bmatrix_cells(matrix))
+    assert (cells / delta - R).applyfunc(sp.cancel) == sp.zeros(2, 2)
+    for i, name in enumerate(("x_{1}", "x_{2}")):
+        (rhs,) = [rhs for lhs, rhs in eqs if lhs == name + "^{L}(\\lambda)"]
+        numerator = re.match(r"\\frac\{(.*)\}\{\\Delta\(\\lambda\)\}$", rhs).group(1)
+        assert sp.cancel(parse(numerator) / delta - X[i]) == 0
+    for row in rows(blocks(text)[0]):
         if "bmatrix" not in row:
             mathtext_ok(row)
+
+
+def test_resolvent_latex_markdown_and_document():
+    R = ls.resolvent(ls.load_scene("wall-pair"))
+    fragment = resolvent_latex(R)
+    snippet = resolvent_latex(R, output="markdown")
+    assert snippet == f"$$\n{fragment}\n$$\n"
+    document = resolvent_latex(R, output="document")
+    assert document.startswith("\\documentclass") and document.rstrip().endswith("\\end{document}")
+    assert fragment.replace("{aligned}", "{align*}") in document
+    with pytest.raises(ValueError, match="output must be"):
+        resolvent_latex(R, output="html")
 
 
 def test_two_factors_print_two_distinct_frequencies():
@@ -321,20 +359,26 @@ def test_two_factors_print_two_distinct_frequencies():
 
 
 def test_forced_piece_switched_on_at_tau_round_trips():
-    forcing = pytest.importorskip("laplace_springs.model.forcing")
-    try:
-        scene = ls.Scene.from_matrices(M=[[1]], C=[["0.5"]], K=[[4]], x0=[1], v0=[0],
-                                       forcing=[forcing.step(1, at=2) + forcing.sine(1, 3)])
-    except TypeError:
-        pytest.skip("scenes without forcing")
-    sol = ls.solve(scene)
-    text = sol.latex()
+    # x'' + x'/2 + 4x = θ(t − 2) + sin 3t, x(0) = 1, x'(0) = 0. Reference by superposition of
+    # two matrix exponentials with an exosystem (no Laplace transform): the sine-driven motion
+    # from the initial data, plus the zero-state response to a unit constant force delayed by 2.
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["0.5"]], K=[[4]], x0=[1], v0=[0],
+                                   forcing=[ls.step(1, at=2) + ls.sine(1, 3)])
+    text = ls.solve(scene).latex()
     assert "Heaviside" not in text and r"\theta\left(t - 2\right)" in text
     for row in rows(blocks(text)[0]):
         mathtext_ok(row)
-    (lhs, rhs), = [(l, r) for l, r in equations(blocks(text)[0]) if l.endswith("(t)")]
+    ((_, rhs),) = [(lhs, rhs) for lhs, rhs in equations(blocks(text)[0]) if lhs.endswith("(t)")]
     expr = parse(rhs).replace(lambda f: isinstance(f, sp.Function) and str(f.func) == "theta",
                               lambda f: sp.Heaviside(f.args[0], 1))
-    for time in ("0.5", "2", "3.7"):  # the printed form is the solution's x(t) (checked elsewhere)
-        expected = complex(sp.N(sol.x[0].subs(ls.t, sp.Rational(time)), 20))
-        assert abs(numeric(expr, {}, time) - expected) < 1e-15
+    times = ["0.5", "2", "3.7", "6.1"]
+    driven = reference_forced_motion(scene, [[0, -3], [3, 0]], [1, 0], [[0, 1]], times, dps=30)
+    at_rest = scene.with_initial(x0=[0], v0=[0])
+    delayed = [str(Decimal(time) - 2) for time in times if Decimal(time) >= 2]
+    stepped = reference_forced_motion(at_rest, [[0]], [1], [[1]], delayed, dps=30)
+    steps = iter(stepped[0])
+    for time, base in zip(times, driven[0]):
+        expected = float(base) + (float(next(steps)) if Decimal(time) >= 2 else 0.0)
+        value = numeric(expr, {}, time)
+        assert abs(value.imag) < 1e-15
+        assert abs(value.real - expected) < 1e-14

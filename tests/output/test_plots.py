@@ -14,17 +14,26 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import sympy as sp  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import sympy as sp
+from matplotlib.figure import Figure
 
-import laplace_springs as ls  # noqa: E402
-from laplace_springs.output.plots import (  # noqa: E402
-    default_t_end, energy, motion, overview_figure, plot_energy, plot_frequency_response,
-    plot_motion, plot_phase,
+import laplace_springs as ls
+from laplace_springs.bench.reference import reference_motion, relative_error
+from laplace_springs.cli import main as cli_main
+from laplace_springs.output.plots import (
+    default_t_end,
+    energy,
+    motion,
+    overview_figure,
+    plot_energy,
+    plot_frequency_response,
+    plot_motion,
+    plot_phase,
+    time_grid,
 )
-from laplace_springs.bench.reference import reference_motion, relative_error  # noqa: E402
 
 SCENES = sorted(ls.bundled_scenes())
 
@@ -108,16 +117,89 @@ def test_energy_plot_total_is_flat():
     assert np.ptp(total) < 1e-9 * total[0]
 
 
+def _lines(ax, label):
+    return [line for line in ax.get_lines() if line.get_label() == label]
+
+
 def test_frequency_response_of_one_mass_is_the_textbook_receptance():
-    # |X/F| = 1/sqrt((k − mω²)² + (cω)²) for m x'' + c x' + k x = F cos ωt.
+    # m x'' + c x' + k x = F cos ωt: |X/F| = 1/sqrt((k − mω²)² + (cω)²), phase −atan2(cω, k − mω²)
+    m, c, k = 2.0, 0.5, 8.0
     scene = ls.Scene.from_matrices(M=[[2]], C=[["0.5"]], K=[[8]], x0=[0], v0=[0])
-    omegas = np.array([0.0, 1.0, 2.0, 3.5])
-    ax = plot_frequency_response(scene, _axes(), omega=omegas)
-    (line,) = [line for line in ax.get_lines() if line.get_label().startswith("Mass")]
-    expected = 1 / np.sqrt((8 - 2 * omegas**2) ** 2 + (0.5 * omegas) ** 2)
-    assert np.allclose(line.get_ydata(), expected, rtol=1e-13)
-    verticals = [line for line in ax.get_lines() if line.get_linestyle() == ":"]
-    assert [line.get_xdata()[0] for line in verticals] == pytest.approx([2.0])
+    omegas = np.array([0.25, 1.0, 1.9, 2.0, 2.1, 3.5, 40.0])
+    figure = Figure()
+    amp_ax, phase_ax = figure.subplots(2, 1)
+    assert plot_frequency_response(scene, omegas, ax=(amp_ax, phase_ax)) is figure
+    (amplitude,) = _lines(amp_ax, "|x1| / F")
+    assert np.array_equal(amplitude.get_xdata(), omegas)
+    expected = 1 / np.sqrt((k - m * omegas**2) ** 2 + (c * omegas) ** 2)
+    np.testing.assert_allclose(amplitude.get_ydata(), expected, rtol=1e-13)
+    (phase,) = _lines(phase_ax, "x1")
+    np.testing.assert_allclose(phase.get_ydata(),
+                               -np.degrees(np.arctan2(c * omegas, k - m * omegas**2)), rtol=1e-13)
+    # the one resonance is marked at the damped frequency sqrt(k/m − (c/2m)²), with |H| there
+    damped = np.sqrt(k / m - (c / (2 * m)) ** 2)
+    peaks = [line.get_xdata()[0] for line in amp_ax.get_lines() if line.get_linestyle() == "--"]
+    assert peaks == pytest.approx([damped], rel=1e-14)
+    (dot,) = [line for line in amp_ax.get_lines() if line.get_marker() == "o"]
+    at_peak = 1 / np.sqrt((k - m * damped**2) ** 2 + (c * damped) ** 2)
+    assert dot.get_ydata()[0] == pytest.approx(at_peak, rel=1e-13)
+
+
+def test_frequency_response_default_frequencies_span_the_modes():
+    # vertical-pair-damped: ω_n = 1 and 2 (the seed's Example 2), default span 0.1 to 20
+    fig = plot_frequency_response(ls.load_scene("vertical-pair-damped"), force=1, outputs=[0])
+    amp_ax, _ = fig.axes
+    (line,) = [line for line in amp_ax.get_lines() if line.get_label().startswith("|")]
+    assert line.get_label() == "|x1| / F"
+    assert line.get_xdata()[0] == pytest.approx(0.1) and line.get_xdata()[-1] == pytest.approx(20.0)
+    assert amp_ax.get_title() == "Frequency response, unit force on x2"
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"omegas": [0.0, 1.0]}, "positive"),
+    ({"omegas": [1.0, np.inf]}, "positive"),
+    ({"force": 2}, "coordinate 2 is out of range"),
+    ({"outputs": [-1]}, "coordinate -1 is out of range"),
+])
+def test_frequency_response_refuses_bad_input(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        plot_frequency_response(ls.load_scene("wall-pair"), **kwargs)
+
+
+def test_frequency_response_of_a_symbolic_scene_is_refused():
+    k = sp.Symbol("k", positive=True)
+    with pytest.raises(ls.SceneError, match="symbols k"):
+        plot_frequency_response(ls.Scene.from_matrices(M=[[1]], K=[[k]], x0=[1], v0=[0]))
+
+
+@pytest.mark.parametrize("method", ["modal", "certified"])
+def test_plots_take_modal_and_certified_solutions(method):
+    # The same plots from the float64 modal route and the certified route, checked against
+    # the matrix exponential of the scene (positions) and of its velocity scene (velocities).
+    scene = ls.load_scene("wall-pair-dashpot")
+    sol = ls.solve(scene, method=method)
+    assert sol.method == method
+    times = time_grid(sol)
+    every = slice(None, None, 97)
+    x_ref = reference_motion(scene, list(times[every]), dps=30)
+    v_ref = reference_motion(_velocity_scene(scene), list(times[every]), dps=30)
+
+    ax = plot_motion(sol, _axes())
+    lines = [line for line in ax.get_lines() if line.get_label().startswith("Mass")]
+    assert np.array_equal(lines[0].get_xdata(), times)
+    assert relative_error(np.array([line.get_ydata()[every] for line in lines]), x_ref) < 1e-12
+
+    ax = plot_phase(sol, _axes())
+    lines = [line for line in ax.get_lines() if line.get_label().startswith("Mass")]
+    assert len(lines) == scene.n
+    assert relative_error(np.array([line.get_xdata()[every] for line in lines]), x_ref) < 1e-12
+    assert relative_error(np.array([line.get_ydata()[every] for line in lines]), v_ref) < 1e-12
+
+    ax = plot_energy(sol, _axes())
+    (total,) = _lines(ax, "total")
+    initial = float((scene.v0.T * scene.M * scene.v0 + scene.x0.T * scene.K * scene.x0)[0] / 2)
+    assert np.abs(total.get_ydata() - initial).max() <= 1e-9 * initial
 
 
 def test_overview_figure_saves_a_png():
@@ -135,17 +217,14 @@ def test_symbolic_scene_cannot_be_plotted():
 
 
 def test_cli_plot_writes_a_png(tmp_path, capsys):
-    from laplace_springs.cli import main
-
     path = tmp_path / "motion.png"
-    assert main(["solve", "wall-pair", "--plot", str(path)]) == 0
+    assert cli_main(["solve", "wall-pair", "--plot", str(path)]) == 0
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "x1(t) =" in capsys.readouterr().out  # the formula is still printed
-    assert main(["solve", "wall-pair", "--plot", str(tmp_path / "missing" / "x.png")]) == 2
+    assert cli_main(["solve", "wall-pair", "--plot", str(tmp_path / "missing" / "x.png")]) == 2
     assert "No such file" in capsys.readouterr().err
 
 
-@pytest.mark.skipif(not hasattr(ls.Scene, "with_forcing"), reason="forcing not available")
 def test_energy_balance_of_a_driven_damped_pair():
     # E(t) = E0 + ∫fᵀv dt − ∫vᵀCv dt: the work of the force is integrated independently
     # from f(t) itself (lambdify) and the exact velocity.
