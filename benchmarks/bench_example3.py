@@ -20,9 +20,9 @@ import time
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.model.numbers import to_exact
 from laplace_springs.bench.reference import reference_motion, relative_error
 from laplace_springs.exact.named import definitions, expand_names
+from laplace_springs.model.numbers import to_exact
 
 SEED_VALUES = {"m1": "1", "m2": "2/3", "k1": "0.3", "k2": "0.08", "k3": "0.2",
                "d1": "-0.08", "d2": "0.4", "v1": "0.15", "v2": "-0.3"}

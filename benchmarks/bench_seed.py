@@ -21,8 +21,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import flint
 import numpy as np
 import sympy as sp
+from sympy.external.gmpy import GROUND_TYPES
 
 import laplace_springs as ls
 
@@ -39,11 +41,16 @@ STARTUP_LIMIT = 120.0
 # ----------------------------------------------------------------------------- child processes
 
 
+def _exact_x(scene: ls.Scene) -> object:
+    """What is timed: the exact route's closed form x(t)."""
+    return ls.solve(scene, method="exact").x
+
+
 def _cold_worker(name: str, conn) -> None:
-    """Time one solve(scene).x in a fresh interpreter (imports done before timing)."""
+    """Time one exact solve(scene).x in a fresh interpreter (imports done before timing)."""
     scene = ls.load_scene(name)
     start = time.perf_counter()
-    ls.solve(scene).x
+    _exact_x(scene)
     conn.send(("cold", time.perf_counter() - start))
 
 
@@ -132,7 +139,7 @@ def _factor_degrees(scene) -> tuple[str, bool]:
 
 def _evaluation_times(scene) -> tuple[float, float]:
     """First evaluate() on a fresh solution (includes the exact→numeric step), then warm."""
-    solution = ls.solve(scene)
+    solution = ls.solve(scene, method="exact")
     start = time.perf_counter()
     solution.evaluate(EVALUATION_TIMES)
     first = time.perf_counter() - start
@@ -141,7 +148,7 @@ def _evaluation_times(scene) -> tuple[float, float]:
 
 def _sympy_error(values, scene) -> float:
     """Largest |SymPy − ours| at CHECK_TIMES, relative to the largest |x|."""
-    ours = ls.solve(scene).evaluate(list(CHECK_TIMES))
+    ours = ls.solve(scene, method="exact").evaluate(list(CHECK_TIMES))
     scale = max(1e-300, float(np.abs(ours).max()))
     return max(abs(complex(v) - ours[i, j]) for i, row in enumerate(values)
                for j, v in enumerate(row)) / scale
@@ -152,11 +159,11 @@ def measure(name: str, *, repeat: int, sympy_limit: float | None) -> Row:
     cold = run_in_child(_cold_worker, name, STARTUP_LIMIT)
     scene = ls.load_scene(name)
     factors, irreducible = _factor_degrees(scene)
-    warm = _median_time(lambda: ls.solve(scene).x, repeat)
+    warm = _median_time(lambda: _exact_x(scene), repeat)
     row = Row(name, factors, irreducible, cold[0][1] if cold else None, warm,
               *_evaluation_times(scene))
     if sympy_limit is not None:
-        messages = dict((m[0], m) for m in run_in_child(_sympy_worker, name, sympy_limit))
+        messages = {m[0]: m for m in run_in_child(_sympy_worker, name, sympy_limit)}
         row.sympy = messages.get("time")
         if "values" in messages:
             row.sympy_error = _sympy_error(messages["values"][1], scene)
@@ -210,10 +217,6 @@ def table_lines(rows: list[Row], limit: float | None) -> list[str]:
 
 
 def preamble(repeat: int, limit: float | None) -> list[str]:
-    import flint
-
-    from sympy.external.gmpy import GROUND_TYPES
-
     sympy_note = "skipped (--no-sympy)" if limit is None else f"hard limit {limit:g} s per scene"
     return [
         "# laplace_springs: exact solves of the bundled seed scenes",
@@ -222,7 +225,7 @@ def preamble(repeat: int, limit: float | None) -> list[str]:
         f"python-flint {flint.__version__}, laplace_springs {ls.__version__}, {platform.machine()}.",
         f"Targets: every bundled seed scene ≤ {TARGET_FACTORABLE:g} s warm; scenes whose Δ(λ) has an "
         f"irreducible factor of degree ≥ 3 (wall-pair-dashpot, three-dashpots) ≤ {TARGET_IRREDUCIBLE:g} s.",
-        f"ours = `ls.solve(scene).x`; cold = first call in a fresh process; warm = median of "
+        f"ours = `ls.solve(scene, method=\"exact\").x`; cold = first call in a fresh process; warm = median of "
         f"{repeat} calls after one warm-up (solve caches nothing, SymPy caches internally).",
         f"SymPy ILT = `sympy.inverse_laplace_transform(X_i, lam, t)` over all coordinates, "
         f"fresh process, {sympy_note}.",

@@ -1,7 +1,7 @@
 """The stiff-and-extreme battery: scenes on which naive float64 evaluation loses digits.
 
 Each :class:`BatteryCase` is a numeric, unforced scene with the times at which it is
-checked. The test suite (``tests/test_battery.py``) compares the default float64
+checked. The test suite (``tests/bench/test_battery.py``) compares the default float64
 ``Solution.evaluate`` with a certified ≥ 40-digit reference (the arb matrix exponential
 of the first-order system) and asserts an error within 1e-12 of max |x| over the
 case's times; the bench measures every method on the same cases.
@@ -386,7 +386,7 @@ def battery_cases(*, large: bool = False) -> tuple[BatteryCase, ...]:
     Parameters
     ----------
     large : bool
-        Also include chains of 20 and 50 masses (for the numeric route).
+        Also include chains of 20 and 50 masses (for the modal and certified routes).
 
     Returns
     -------

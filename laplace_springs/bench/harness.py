@@ -41,6 +41,7 @@ import time
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from types import FrameType
 from typing import Any, TextIO
 
 import mpmath
@@ -128,17 +129,17 @@ def time_limit(seconds: float | None) -> Iterator[None]:
     Python-level code (integrators' right-hand sides, mpmath, SymPy) is interrupted;
     where SIGALRM is unavailable (Windows, or off the main thread) there is no limit.
     """
-    usable = (seconds is not None and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread())
-    if not usable:
+    usable = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+    if seconds is None or not usable:
         yield
         return
+    limit: float = seconds
 
-    def _alarm(signum, frame):
-        raise TimeLimitExceeded(f"over {seconds:g} s")
+    def _alarm(signum: int, frame: FrameType | None) -> None:
+        raise TimeLimitExceeded(f"over {limit:g} s")
 
     previous = signal.signal(signal.SIGALRM, _alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_REAL, limit)
     try:
         yield
     finally:
@@ -261,7 +262,7 @@ class Progress:
         self.stream = stream if stream is not None else sys.stderr
         self.start = time.perf_counter()
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
-        self._last_case = None
+        self._last_case: str | None = None
 
     def update(self, case: str, method: str) -> None:
         if not self.enabled:

@@ -16,8 +16,12 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
-from collections.abc import Callable
+import multiprocessing
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
+from multiprocessing.connection import Connection
+from multiprocessing.process import BaseProcess
 from time import perf_counter
 from typing import Any
 
@@ -29,7 +33,7 @@ from sympy.core.cache import clear_cache
 from ..exact.resolvent import resolvent
 from ..model.scene import Scene
 from ..model.symbols import TIME, lam
-from ..numeric.first_order import first_order_system
+from ..numeric.first_order import first_order_system, float_matrix
 from ..solve import solve
 
 __all__ = ["Problem", "Outcome", "Method", "Unavailable", "TimeLimitExceeded", "all_methods",
@@ -50,18 +54,26 @@ class Problem:
     kind: str
     scene: Scene
     times: np.ndarray
-    mp_times: tuple
+    mp_times: tuple[Any, ...]
     Z: np.ndarray
     y0: np.ndarray
 
     @classmethod
-    def from_case(cls, name: str, kind: str, scene: Scene, times) -> Problem:
-        """Build from a scene and times (floats, or decimal strings rounded to float64)."""
-        floats = np.array([float(sp.Float(tv, 30)) if isinstance(tv, str) else float(tv)
+    def from_case(cls, name: str, kind: str, scene: Scene, times: Sequence[Any]) -> Problem:
+        """Build from a scene and times (floats, or decimal strings rounded once to float64).
+
+        Examples
+        --------
+        >>> scene = Scene.from_matrices(M=[[2]], C=[[1]], K=[[8]], x0=[1], v0=[3])
+        >>> problem = Problem.from_case("p", "k", scene, ["0.1", 2.5])
+        >>> problem.times.tolist(), problem.Z.tolist(), problem.y0.tolist()
+        ([0.1, 2.5], [[0.0, 1.0], [-4.0, -0.5]], [1.0, 3.0])
+        """
+        floats = np.array([float(Fraction(tv)) if isinstance(tv, str) else float(tv)
                            for tv in times], dtype=float)
         Z, y0, _ = first_order_system(scene)
         return cls(name, kind, scene, floats, tuple(mpmath.mpf(v) for v in floats),
-                   np.array(Z.evalf(30), dtype=float), np.array(y0.evalf(30), dtype=float).ravel())
+                   float_matrix(Z, "Z"), float_matrix(y0, "y0").ravel())
 
     @property
     def n(self) -> int:
@@ -138,22 +150,15 @@ def _timed(function: Callable[[], Any]) -> tuple[Any, float]:
     return value, perf_counter() - start
 
 
-def _run_ours(problem: Problem, state: Any) -> Outcome:
-    solution, solve_time = _timed(lambda: solve(problem.scene))
-    values, evaluate_time = _timed(lambda: solution.evaluate(problem.times))
-    route = getattr(solution, "method", None)
-    note = f"route: {route}" if isinstance(route, str) else ""
-    return Outcome(np.asarray(values, dtype=float),
-                   {"solve": solve_time, "evaluate": evaluate_time}, note)
-
-
 def _route_runner(route: str) -> Callable[[Problem, Any], Outcome]:
-    """``solve(scene, method=route)`` + ``evaluate(times)``."""
+    """``solve(scene, method=route)`` + ``evaluate(times)`` in float64; the note names the
+    route taken (``"auto"`` chooses one)."""
     def run(problem: Problem, state: Any) -> Outcome:
         solution, solve_time = _timed(lambda: solve(problem.scene, method=route))
         values, evaluate_time = _timed(lambda: solution.evaluate(problem.times))
         return Outcome(np.asarray(values, dtype=float),
-                       {"solve": solve_time, "evaluate": evaluate_time})
+                       {"solve": solve_time, "evaluate": evaluate_time},
+                       f"route: {solution.method}")
     return run
 
 
@@ -276,10 +281,8 @@ def _sympy_values(results: list, times: np.ndarray) -> np.ndarray:
     return np.array(rows, dtype=float)
 
 
-def _sympy_child(connection) -> None:
+def _sympy_child(connection: Connection) -> None:
     """Worker loop: invert each transform list sent, reply with time and values."""
-
-
     connection.send(("ready",))
     while (task := connection.recv()) is not None:
         transforms, times = task
@@ -312,30 +315,31 @@ class SympyInverter:
 
     def __init__(self, limit: float) -> None:
         self.limit = limit
-        self._process = None
-        self._connection = None
+        self._process: BaseProcess | None = None
+        self._connection: Connection | None = None
 
-    def _start(self) -> None:
-        import multiprocessing
-
+    def _start(self) -> Connection:
         context = multiprocessing.get_context("spawn")
-        self._connection, child = context.Pipe()
-        self._process = context.Process(target=_sympy_child, args=(child,), daemon=True)
-        self._process.start()
+        connection, child = context.Pipe()
+        process = context.Process(target=_sympy_child, args=(child,), daemon=True)
+        self._connection, self._process = connection, process
+        process.start()
         child.close()
-        if not self._connection.poll(self.STARTUP_LIMIT):
+        if not connection.poll(self.STARTUP_LIMIT):
             self.close()
             raise RuntimeError("the SymPy worker process did not start")
-        self._connection.recv()
+        connection.recv()
+        return connection
 
     def __call__(self, problem: Problem, transforms: Any) -> Outcome:
-        if self._process is None or not self._process.is_alive():
-            self._start()
-        self._connection.send((transforms, problem.times))
-        if not self._connection.poll(self.limit):
+        connection = self._connection
+        if connection is None or self._process is None or not self._process.is_alive():
+            connection = self._start()
+        connection.send((transforms, problem.times))
+        if not connection.poll(self.limit):
             self.close()
             raise TimeLimitExceeded(f"killed after {self.limit:g} s")
-        message = self._connection.recv()
+        message = connection.recv()
         if message[0] == "failed":
             raise RuntimeError(message[1])
         _, seconds, phases, values = message
@@ -343,14 +347,15 @@ class SympyInverter:
 
     def close(self) -> None:
         """Stop the worker process (it is started again when needed)."""
-        if self._process is not None:
-            if self._process.is_alive():
+        process, connection = self._process, self._connection
+        if process is not None:
+            if process.is_alive() and connection is not None:
                 with contextlib.suppress(OSError):
-                    self._connection.send(None)
-                self._process.join(1.0)
-            if self._process.is_alive():
-                self._process.kill()
-            self._process.join()
+                    connection.send(None)
+                process.join(1.0)
+            if process.is_alive():
+                process.kill()
+            process.join()
         self._process = self._connection = None
 
 
@@ -388,7 +393,7 @@ def all_methods(*, sympy_limit: float = 10.0) -> tuple[Method, ...]:
     """
     return (
         Method("ours", "solve(scene) + evaluate(times), float64 (the default route)", True,
-               _run_ours),
+               _route_runner("auto")),
         Method("ours-modal", 'solve(scene, method="modal") + evaluate(times), float64',
                True, _route_runner("modal")),
         Method("ours-certified", 'solve(scene, method="certified") + evaluate(times), float64',

@@ -14,7 +14,7 @@ from ..model.scene import Scene
 from .methods import Method
 
 __all__ = ["BenchCase", "BenchSettings", "Record", "Verdict", "BenchmarkResult", "TIE_FLOOR",
-           "TIE_FACTOR", "DEFAULT_ROUTE", "more_accurate", "pareto_verdict"]
+           "TIE_FACTOR", "DEFAULT_ROUTE", "measured", "more_accurate", "pareto_verdict"]
 
 #: Errors at or below this count as equal (float64 rounding of the output).
 TIE_FLOOR = 1e-15
@@ -113,6 +113,21 @@ class BenchmarkResult:
     notes: list[str] = field(default_factory=list)
 
 
+def measured(record: Record) -> tuple[float, float] | None:
+    """(error, seconds) of a record that finished ("ok" with both numbers), else None.
+
+    Examples
+    --------
+    >>> measured(Record("c", "k", "m", "", False, "ok", error=1e-9, seconds=0.5))
+    (1e-09, 0.5)
+    >>> measured(Record("c", "k", "m", "", False, "timeout")) is None
+    True
+    """
+    if record.status != "ok" or record.error is None or record.seconds is None:
+        return None
+    return record.error, record.seconds
+
+
 def _floored(error: float) -> float:
     return max(error, TIE_FLOOR)
 
@@ -133,12 +148,26 @@ def more_accurate(error: float, than: float, *, strict: bool = False) -> bool:
 
 
 def pareto_verdict(records: Sequence[Record], route: str = DEFAULT_ROUTE) -> Verdict:
-    """Which peers are both faster than our ``route`` and more accurate, on one case."""
+    """Which peers are both strictly faster than our ``route`` and more accurate, on one case.
+
+    Only peers (records with ``ours`` false) that finished count; our other routes never
+    dominate the default one.
+
+    Examples
+    --------
+    >>> ours = Record("c", "k", "ours", "", True, "ok", error=1e-12, seconds=0.01)
+    >>> peer = Record("c", "k", "peer", "", False, "ok", error=1e-14, seconds=0.001)
+    >>> [r.method for r in pareto_verdict([ours, peer]).dominated_by]
+    ['peer']
+    """
     ours = next((r for r in records if r.method == route), None)
     case = records[0].case if records else ""
-    if ours is None or ours.status != "ok":
+    mine = measured(ours) if ours is not None else None
+    if mine is None:
         return Verdict(case, ours, [], [])
-    peers = [r for r in records if not r.ours and r.status == "ok" and r.seconds < ours.seconds]
+    error, seconds = mine
+    peers = [(r, m[0]) for r in records
+             if not r.ours and (m := measured(r)) is not None and m[1] < seconds]
     return Verdict(case, ours,
-                   [r for r in peers if more_accurate(r.error, ours.error)],
-                   [r for r in peers if more_accurate(r.error, ours.error, strict=True)])
+                   [r for r, e in peers if more_accurate(e, error)],
+                   [r for r, e in peers if more_accurate(e, error, strict=True)])

@@ -62,7 +62,7 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
         A scene with numeric entries and invertible M, or massless nodes held by
         dashpots (see :func:`first_order_system`).
     times : sequence
-        Times (floats are read by their shortest decimal form; strings as decimals).
+        Times (floats by their exact binary value; strings as exact decimals).
     dps : int
         Working precision in decimal digits.
 
@@ -84,11 +84,14 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
 
 
 def _to_mpf(value) -> mpmath.mpf:
-    """A number as an mpf at the current precision (floats by their shortest decimal)."""
+    """A number as an mpf at the current precision: floats by their exact binary value (a
+    float time or value is the number it holds), exact numbers rounded once."""
     if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, float):
-        return mpmath.mpf(repr(value))
+        return mpmath.mpf(value)
+    if isinstance(value, sp.Rational):
+        return mpmath.mpf(int(value.p)) / int(value.q)
     if isinstance(value, sp.Basic):
         return mpmath.mpf(sp.Float(sp.N(value, mpmath.mp.dps + 5), mpmath.mp.dps + 5)._mpf_)
     return mpmath.mpf(value)
@@ -133,12 +136,22 @@ def _exact_rational_matrix(matrix: sp.MatrixBase):
     return fmpq_mat(matrix.rows, matrix.cols, [fmpq(int(e.p), int(e.q)) for e in matrix])
 
 
-def _arb_matrix(matrix: sp.MatrixBase, digits: int):
+def _arb_entry(value: sp.Expr, digits: int) -> arb:
+    """An exact number as an arb ball: rationals exactly, others (such as √2) as a
+    ``digits``-digit decimal widened by 10^(1 - digits) of its size, so the ball holds
+    the exact value."""
+    if isinstance(value, sp.Rational):
+        return arb(fmpq(int(value.p), int(value.q)))
+    ball = arb(str(sp.N(value, digits)))
+    return ball + arb(0, (abs(ball).upper() * arb(10) ** (1 - digits)).upper())
 
+
+def _arb_matrix(matrix: sp.MatrixBase, digits: int) -> arb_mat:
+    """An exact numeric matrix as balls that contain its entries (rational ones exactly)."""
     rational = _exact_rational_matrix(matrix)
     if rational is not None:
         return arb_mat(rational)
-    entries = [arb(str(sp.N(e, digits))) for e in matrix]
+    entries = [_arb_entry(e, digits) for e in matrix]
     return arb_mat(matrix.rows, matrix.cols, entries)
 
 
@@ -147,16 +160,14 @@ def _arb_to_mpf(value) -> mpmath.mpf:
     return mpmath.mpf((int(man), int(exp)))
 
 
-def _arb_motion(scene, times: Sequence, digits: int) -> tuple[list[list], float]:
-    """Midpoints of x(t) and the largest radius relative to max |x|, at the current precision."""
+def _arb_motion(scene, times: Sequence, digits: int) -> tuple[list[list[arb]], float]:
+    """Balls of x(t) (one row per coordinate) and the largest radius relative to max |x|,
+    at the current precision."""
     Z, y0, _ = first_order_system(scene)
     n = scene.n
     Z, y0 = _arb_matrix(Z, digits + 20), _arb_matrix(y0, digits + 20)
-    balls = [[None] * len(times) for _ in range(n)]
-    for col, tv in enumerate(times):
-        y = (Z * _arb_time(tv)).exp() * y0
-        for i in range(n):
-            balls[i][col] = y[i, 0]
+    columns = [(Z * _arb_time(tv)).exp() * y0 for tv in times]
+    balls = [[y[i, 0] for y in columns] for i in range(n)]
     scale = max(abs(float(b.mid())) for row in balls for b in row)
     radius = max(float(b.rad()) for row in balls for b in row)
     if not all(b.is_finite() for row in balls for b in row):

@@ -14,7 +14,7 @@ from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
 
-from .records import TIE_FACTOR, TIE_FLOOR, BenchmarkResult, Record, Verdict, more_accurate
+from .records import TIE_FACTOR, TIE_FLOOR, BenchmarkResult, Record, Verdict, measured, more_accurate
 
 __all__ = ["write_all", "write_markdown", "write_csv", "plot_case", "verdict_text"]
 
@@ -55,11 +55,12 @@ def verdict_text(verdict: Verdict, *, strict: bool = False) -> str:
     return "DOMINATED by " + ", ".join(_short(r) for r in dominators)
 
 
-def _fastest_as_accurate(records: Sequence[Record], ours: Record) -> Record | None:
-    """The fastest peer whose error is not worse than ours under the tie rule."""
-    peers = [r for r in records if not r.ours and r.status == "ok"
-             and not more_accurate(ours.error, r.error)]
-    return min(peers, key=lambda r: r.seconds, default=None)
+def _fastest_as_accurate(records: Sequence[Record], error: float) -> tuple[Record, float] | None:
+    """The fastest peer whose error is not worse than ``error`` (ours) under the tie rule,
+    and its time."""
+    peers = [(r, m[1]) for r in records
+             if not r.ours and (m := measured(r)) is not None and not more_accurate(error, m[0])]
+    return min(peers, key=lambda pair: pair[1], default=None)
 
 
 def _versions() -> str:
@@ -117,17 +118,19 @@ def _summary_table(result: BenchmarkResult) -> list[str]:
         case = by_case[verdict.case]
         ours = verdict.ours
         records = [r for r in result.records if r.case == verdict.case]
-        if ours is None or ours.status != "ok":
+        mine = measured(ours) if ours is not None else None
+        if ours is None or mine is None:
             status = "not run" if ours is None else f"{ours.status}: {ours.note}"
             lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {status} | — | — | — "
                          f"| no result | no result |")
             continue
+        error, seconds = mine
         split = " / ".join(_seconds_text(ours.phases.get(p)) for p in ("solve", "evaluate"))
-        rival = _fastest_as_accurate(records, ours)
+        rival = _fastest_as_accurate(records, error)
         rival_text = "none" if rival is None else (
-            f"{_short(rival)}, {rival.seconds / ours.seconds:.2g}× our time")
-        lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {_error_text(ours.error)} "
-                     f"| {_seconds_text(ours.seconds)} | {split} | {rival_text} "
+            f"{_short(rival[0])}, {rival[1] / seconds:.2g}× our time")
+        lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {_error_text(error)} "
+                     f"| {_seconds_text(seconds)} | {split} | {rival_text} "
                      f"| {verdict_text(verdict)} | {verdict_text(verdict, strict=True)} |")
     return lines
 
@@ -192,8 +195,8 @@ def write_csv(records: Sequence[Record], path: Path) -> None:
 #: Errors below this are drawn at it (a float64 result can be exact).
 PLOT_FLOOR = 1e-18
 
-_STYLE = {"ours": ("tab:red", "*", 16), "ours-numeric": ("tab:red", "P", 10),
-          "ours-mp30": ("tab:red", "D", 8), "scipy-expm": ("tab:blue", "s", 8),
+_STYLE = {"ours": ("tab:red", "*", 16), "ours-modal": ("tab:red", "P", 10),
+          "ours-certified": ("tab:red", "h", 10), "ours-mp30": ("tab:red", "D", 8), "scipy-expm": ("tab:blue", "s", 8),
           "control-initial": ("tab:green", "^", 8), "mpmath-talbot": ("tab:purple", "v", 8),
           "mpmath-cohen": ("tab:purple", "<", 8), "sympy-ilt": ("tab:brown", "X", 9)}
 _IVP_COLOURS = {"RK45": "tab:orange", "DOP853": "tab:olive", "Radau": "tab:cyan",
@@ -207,20 +210,22 @@ def plot_case(records: Sequence[Record], path: Path, title: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-
     figure, axes = plt.subplots(figsize=(9.0, 5.0))
-    ok = [r for r in records if r.status == "ok"]
-    families: dict[str, list[Record]] = {}
-    for r in ok:
+    families: dict[str, list[tuple[float, float]]] = {}
+    for r in records:
+        point = measured(r)
+        if point is None:
+            continue
+        error, seconds = point
         if r.method.startswith("ivp-"):
-            families.setdefault(r.method.split("-")[1], []).append(r)
+            families.setdefault(r.method.split("-")[1], []).append((seconds, error))
             continue
         colour, marker, size = _STYLE.get(r.method, ("black", "o", 7))
-        axes.loglog([r.seconds], [max(r.error, PLOT_FLOOR)], marker=marker, color=colour,
+        axes.loglog([seconds], [max(error, PLOT_FLOOR)], marker=marker, color=colour,
                     markersize=size, linestyle="none", label=r.method, zorder=3 if r.ours else 2)
     for solver, members in families.items():
-        members.sort(key=lambda r: r.seconds)
-        axes.loglog([r.seconds for r in members], [max(r.error, PLOT_FLOOR) for r in members],
+        members.sort()
+        axes.loglog([s for s, _ in members], [max(e, PLOT_FLOOR) for _, e in members],
                     marker="o", color=_IVP_COLOURS.get(solver, "black"), label=f"solve_ivp {solver}")
     axes.axhspan(PLOT_FLOOR / 2, TIE_FLOOR, color="0.92", zorder=0, label=f"≤ {TIE_FLOOR:g} (tie)")
     missing = [f"{r.method}: {r.status}" for r in records if r.status in ("timeout", "failed")]
