@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
+from typing import cast
 
 import flint
 import mpmath
@@ -31,7 +32,9 @@ def root_enclosures(coeffs: tuple[sp.Rational, ...], dps: int) -> tuple[tuple[st
     """
     poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in coeffs])
     with flint.ctx.workdps(dps):
-        roots = [r for r, _ in poly.complex_roots()]
+        # python-flint's stub declares list[acb]; the call returns (root, multiplicity) pairs
+        pairs = cast(list[tuple[flint.acb, int]], poly.complex_roots())
+        roots = [r for r, _ in pairs]
         return tuple((r.real.mid().str(dps, radius=False), r.imag.mid().str(dps, radius=False))
                      for r in roots)
 
@@ -96,7 +99,7 @@ def numeric_value(expr: sp.Expr, dps: int) -> sp.Expr:
     powers) for its value at several precisions; substituting the roots first makes
     the evaluation of a closed form cost one flint call per root.
     """
-    expr = sp.sympify(expr)
+    expr = sp.sympify(expr, strict=True)
     roots = expr.atoms(AlgebraicRoot)
     if roots:
         expr = expr.xreplace({r: r.evalf(dps + 10) for r in roots})

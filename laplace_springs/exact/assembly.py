@@ -63,6 +63,12 @@ class Piece:
     numerators: tuple[sp.Poly, ...] = ()
     denominator: sp.Poly | None = None
 
+    def __post_init__(self) -> None:
+        shapes = [len(row) for row in self.terms], [len(row) for row in self.steady]
+        if shapes[0] != shapes[1]:
+            raise ValueError(f"a piece needs one steady flag per term: {shapes[0]} terms per "
+                             f"coordinate, {shapes[1]} flags")
+
     def expr(self, row: int, part: Part = "all") -> sp.Expr:
         """Coordinate ``row`` of this piece in :data:`TIME` (Heaviside-switched if τ > 0)."""
         chosen = [term for term, steady in zip(self.terms[row], self.steady[row])

@@ -142,11 +142,11 @@ def named(base: str, index: int, definition: sp.Expr, *, positive: bool | None =
         The named atom, or ``definition`` itself when it has no free symbols (a number
         needs no name).
     """
-    definition = sp.sympify(definition)
+    definition = sp.sympify(definition, strict=True)
     if not definition.free_symbols:
         return definition
     cls = _named_class(base, index, definition, positive, meaning,
-                       None if display is None else sp.sympify(display))
+                       None if display is None else sp.sympify(display, strict=True))
     return cls(*cls.parameters)
 
 
@@ -163,7 +163,7 @@ def named_quantities(exprs: Iterable[sp.Expr]) -> list[NamedQuantity]:
     """The named atoms in ``exprs`` and in their shown definitions, each after the
     names its own definition uses (so a listing reads top to bottom)."""
     found: set = set()
-    todo = [sp.sympify(e) for e in exprs]
+    todo = [sp.sympify(e, strict=True) for e in exprs]
     while todo:
         for q in todo.pop().atoms(NamedQuantity):
             if q not in found:
@@ -201,7 +201,7 @@ def expand_names(expr):
 
     Works on expressions and matrices.
     """
-    expr = sp.sympify(expr)
+    expr = sp.sympify(expr, strict=True)
     quantities = named_quantities([expr] if not isinstance(expr, sp.MatrixBase) else list(expr))
     if not quantities:
         return expr

@@ -99,7 +99,10 @@ def _field_polys(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
     """Numerator and denominator of F as polynomials in s over a common field."""
     if not isinstance(s, sp.Symbol):
         raise InversionError(f"the transform variable must be a Symbol, got {s!r}")
-    F = sp.sympify(F)
+    try:
+        F = sp.sympify(F, strict=True)  # expressions and numbers; text is never parsed
+    except sp.SympifyError:
+        raise InversionError(f"the transform must be a SymPy expression, got {F!r}") from None
     if F.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise InversionError(f"the transform is not finite: {F} (a zero denominator?)")
     if F.has(sp.Float):

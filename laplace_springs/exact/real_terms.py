@@ -58,7 +58,7 @@ class Term:
 
 def _clean(expr: sp.Expr) -> sp.Expr:
     """Light normalisation of an exact coefficient."""
-    expr = sp.sympify(expr)
+    expr = sp.sympify(expr, strict=True)
     expr = sp.expand(expr) if expr.is_number else sp.factor_terms(sp.cancel(expr))
     return sp.radsimp(expr) if expr.has(sp.Pow) and expr.is_number else expr
 

@@ -37,7 +37,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Literal
+from typing import Literal, TypeAlias
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
@@ -58,7 +58,8 @@ __all__ = [
     "sylvester_matrices",
 ]
 
-MatrixLike = sp.MatrixBase | Sequence[Sequence[object]]
+#: A SymPy matrix or a sequence of rows (entries as numbers.to_exact accepts them).
+MatrixLike: TypeAlias = "sp.MatrixBase | Sequence[Sequence[object]]"
 FunctionName = Literal["exp", "cos_sqrt", "sinc_sqrt"]
 #: k-th derivative of f at a root, divided by k!, as (real part, imaginary part).
 _Derivative = Callable[[int, "_Root"], tuple[sp.Expr, sp.Expr]]
@@ -145,13 +146,13 @@ def first_order_matrix(A: MatrixLike, B: MatrixLike | None = None) -> sp.Immutab
     [ 0,    1],
     [-2, -1/5]])
     """
-    A = _as_matrix(A, "A")
-    n = A.rows
-    B = sp.zeros(n, n) if B is None else _as_matrix(B, "B")
-    if B.shape != A.shape:
-        raise SceneError(f"B must have the shape of A, {A.shape}; got {B.shape}")
+    stiffness = _as_matrix(A, "A")
+    n = stiffness.rows
+    damping = sp.zeros(n, n) if B is None else _as_matrix(B, "B")
+    if damping.shape != stiffness.shape:
+        raise SceneError(f"B must have the shape of A, {stiffness.shape}; got {damping.shape}")
     top = sp.Matrix.hstack(sp.zeros(n, n), sp.eye(n))
-    return sp.ImmutableMatrix(sp.Matrix.vstack(top, sp.Matrix.hstack(-A, -B)))
+    return sp.ImmutableMatrix(sp.Matrix.vstack(top, sp.Matrix.hstack(-stiffness, -damping)))
 
 
 # ---------------------------------------------------------------------------
@@ -461,12 +462,12 @@ def spectral_decomposition(A: MatrixLike) -> tuple[SpectralComponent, ...]:
     [ 1,  1],
     [-1, -1]]))
     """
-    A = _as_rational_matrix(A, "A")
+    matrix = _as_rational_matrix(A, "A")
     out = []
-    for block, root in _ordered(_factor_blocks(A)):
+    for block, root in _ordered(_factor_blocks(matrix)):
         parts = block.covariants
         nilpotent = (_at_root(parts[1], root.value) if block.index > 1
-                     else sp.ImmutableMatrix(sp.zeros(A.rows, A.cols)))
+                     else sp.ImmutableMatrix(sp.zeros(matrix.rows, matrix.cols)))
         out.append(SpectralComponent(root.value, block.multiplicity, block.index,
                                      _at_root(parts[0], root.value), nilpotent))
     return tuple(out)
@@ -631,6 +632,14 @@ def _sum(terms: list[tuple[sp.Expr, sp.ImmutableMatrix]], shape: tuple[int, int]
     return sp.ImmutableMatrix(out)
 
 
+def _time(t: object) -> sp.Expr:
+    """The caller's time: a SymPy expression or a number (text is never parsed)."""
+    try:
+        return sp.sympify(t, strict=True)
+    except sp.SympifyError:
+        raise TypeError(f"t must be a SymPy symbol or expression, got {t!r}") from None
+
+
 def _prepare(f: FunctionName | Callable[[sp.Expr], sp.Expr], t: sp.Expr | None
              ) -> tuple[_Derivative, tuple[sp.Symbol, ...], dict[sp.Symbol, sp.Expr]]:
     """The derivative rule for ``f``, its variables, and the map back to the caller's symbols."""
@@ -638,11 +647,11 @@ def _prepare(f: FunctionName | Callable[[sp.Expr], sp.Expr], t: sp.Expr | None
         if f not in _NAMED:
             raise ValueError(f"unknown function {f!r}; expected one of {sorted(_NAMED)} "
                              "or a callable of one argument")
-        return _NAMED[f], (_T,), {_T: TIME if t is None else sp.sympify(t)}
+        return _NAMED[f], (_T,), {_T: TIME if t is None else _time(t)}
     if t is not None:
         raise TypeError("t is only for the named functions; a callable f carries its own symbols")
     z = sp.Dummy("z")
-    f_of_z = sp.sympify(f(z))
+    f_of_z = sp.sympify(f(z), strict=True)  # an expression, never text
     symbols = sorted(f_of_z.free_symbols - {z}, key=sp.default_sort_key)
     real = {s: sp.Dummy(s.name, real=True) for s in symbols}
     derivative = _generic_derivative(f_of_z.xreplace(real), z)
@@ -683,10 +692,10 @@ def matrix_function_terms(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], s
     sin(t) [[1/3, 1/3], [2/3, 2/3]]
     sin(2*t) [[1/3, -1/6], [-1/3, 1/6]]
     """
-    A = _as_rational_matrix(A, "A")
+    matrix = _as_rational_matrix(A, "A")
     derivative, variables, back = _prepare(f, t)
-    terms = _terms(A, derivative, variables)
-    return tuple((sp.sympify(basis).xreplace(back), M) for basis, M in terms)
+    terms = _terms(matrix, derivative, variables)
+    return tuple((sp.sympify(basis, strict=True).xreplace(back), M) for basis, M in terms)
 
 
 def matrix_function(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], sp.Expr],
@@ -736,9 +745,9 @@ def matrix_function(A: MatrixLike, f: FunctionName | Callable[[sp.Expr], sp.Expr
     [1, 8],
     [0, 9]])
     """
-    A = _as_rational_matrix(A, "A")
+    matrix = _as_rational_matrix(A, "A")
     derivative, variables, back = _prepare(f, t)
-    return _sum(_terms(A, derivative, variables), A.shape).xreplace(back)
+    return _sum(_terms(matrix, derivative, variables), matrix.shape).xreplace(back)
 
 
 def expm(B: MatrixLike, t: sp.Expr | None = None) -> sp.ImmutableMatrix:

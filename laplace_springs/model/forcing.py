@@ -275,7 +275,7 @@ def _linear(arg: sp.Expr, factor: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     if poly is None or poly.degree() > 1 or any(c.has(t) for c in poly.all_coeffs()):
         raise _Unsupported(factor, f"the argument of {factor} is not linear in t")
     c, d = (poly.all_coeffs() + [0])[:2] if poly.degree() == 1 else (0, poly.all_coeffs()[0])
-    return sp.sympify(c), sp.sympify(d)
+    return sp.sympify(c, strict=True), sp.sympify(d, strict=True)
 
 
 def _switch_time(c: sp.Expr, d: sp.Expr, factor: sp.Expr) -> sp.Expr:

@@ -40,6 +40,7 @@ from .symbols import TIME
 __all__ = [
     "ALLOWED_FUNCTIONS",
     "CONSTANTS",
+    "NOT_FINITE_REAL",
     "MAX_EXPRESSION_LENGTH",
     "MAX_NESTING_DEPTH",
     "TIME",
@@ -65,6 +66,10 @@ ALLOWED_FUNCTIONS: Mapping[str, Callable[..., sympy.Expr]] = MappingProxyType(
 
 #: Named constants.
 CONSTANTS: Mapping[str, sympy.Expr] = MappingProxyType({"pi": sympy.pi, "E": sympy.E})
+
+#: Names refused in text (any case): they would read as a number that is not finite and
+#: real (SymPy's nan, oo, zoo, the imaginary unit I), never as a parameter.
+NOT_FINITE_REAL = frozenset({"nan", "inf", "infinity", "oo", "zoo", "i", "j"})
 
 
 #: Longest text accepted by :func:`parse_expression`, in characters.
@@ -268,6 +273,8 @@ class _Parser:
             return self.variables[name]
         if name in CONSTANTS:
             return CONSTANTS[name]
+        if name.lower() in NOT_FINITE_REAL:
+            raise _ParseError(f"{name!r} is not a finite real number", token.column)
         return sympy.Symbol(name, **self.assumptions)
 
     def call(self, token: _Token) -> sympy.Expr:
@@ -381,9 +388,10 @@ def _decimal_text_to_rational(text: str, entry: str, shown: object) -> sympy.Rat
 
 
 def _decimal_to_rational(value: decimal.Decimal, entry: str, shown: object) -> sympy.Rational:
-    if not value.is_finite():
+    exponent = value.as_tuple().exponent  # 'n', 'N' or 'F' for NaN and infinities
+    if not value.is_finite() or not isinstance(exponent, int):
         raise SceneError(f"{entry}: expected a finite number, got {shown!r}")
-    if abs(value.as_tuple().exponent) > MAX_LITERAL_EXPONENT + 100:
+    if abs(exponent) > MAX_LITERAL_EXPONENT + 100:
         raise SceneError(f"{entry}: exponent of {shown!r} is too large to hold exactly")
     return _fraction_to_rational(fractions.Fraction(value))
 
@@ -474,7 +482,7 @@ def generic_values(symbols: Iterable[sympy.Symbol]) -> dict[sympy.Symbol, sympy.
     --------
     >>> a, b = sympy.symbols("a b")
     >>> generic_values([b, a])
-    {a: 97/89, b: 110/96}
+    {a: 97/89, b: 55/48}
     """
     return {symbol: sympy.Rational(97 + 13 * i, 89 + 7 * i)
             for i, symbol in enumerate(sorted(symbols, key=lambda symbol: symbol.name))}

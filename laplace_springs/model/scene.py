@@ -701,7 +701,8 @@ class Scene:
         ----------
         masses : mapping of str to number, or sequence of (name, value)
             The masses, in coordinate order.
-        springs, dashpots : mapping label -> (node_a, node_b, value), or sequence of (label, node_a, node_b, value)
+        springs, dashpots : mapping or sequence, optional
+            ``{label: (node_a, node_b, value)}``, or rows ``(label, node_a, node_b, value)``.
             A node is a mass name or a fixed support, one of :data:`SUPPORTS`
             (case-insensitive). A spring ``k`` between masses i and j adds ``k`` to
             ``K[i,i]`` and ``K[j,j]`` and ``-k`` to ``K[i,j]`` and ``K[j,i]``; to a

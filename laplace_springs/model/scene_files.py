@@ -102,7 +102,7 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     form = _form_of(data)
     initial = _table(data, "initial")
     _check_keys(initial, _INITIAL_KEYS, "in [initial]")
-    common = {"title": _text(data, "title", ""), "layout": _text(data, "layout", "horizontal")}
+    title, layout = _text(data, "title", ""), _text(data, "layout", "horizontal")
     _text(data, "description", "")  # checked only: free text, not part of a Scene
     if form == "masses":
         return Scene.from_components(
@@ -111,7 +111,8 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
             dashpots=_table(data, "dashpots"),
             x0=initial.get("x0"),
             v0=initial.get("v0"),
-            **common,
+            title=title,
+            layout=layout,
         )
     matrices = _table(data, form)
     _check_keys(matrices, _FORM_TABLES[form], f"in [{form}]")
@@ -119,15 +120,10 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     if required not in matrices:
         raise SceneError(f"[{form}] needs {required}")
     zeros = [0] * len(matrices[required]) if isinstance(matrices[required], list) else None
-    arguments = {
-        "x0": initial.get("x0", zeros),
-        "v0": initial.get("v0", zeros),
-        "names": _names(data),
-        **common,
-    }
+    x0, v0, names = initial.get("x0", zeros), initial.get("v0", zeros), _names(data)
     if form == "matrices":
-        return Scene.from_matrices(**matrices, **arguments)
-    return Scene.from_normalized(**matrices, **arguments)
+        return Scene.from_matrices(**matrices, x0=x0, v0=v0, names=names, title=title, layout=layout)
+    return Scene.from_normalized(**matrices, x0=x0, v0=v0, names=names, title=title, layout=layout)
 
 
 def _names(data: Mapping[str, Any]) -> list[str] | None:
@@ -188,7 +184,7 @@ def scene_from_toml_text(text: str, source: str = "<string>") -> Scene:
 
 
 def _scenes_folder() -> Traversable:
-    return resources.files("laplace_springs") / "scenes"
+    return resources.files("laplace_springs.model") / "scenes"
 
 
 def _bundled_files() -> dict[str, Traversable]:

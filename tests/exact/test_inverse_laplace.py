@@ -87,9 +87,9 @@ def test_against_residue_route(F):
     assert not result.has(sp.I, sp.Heaviside, sp.Float)
     times = ["0.3", "2.5", "7.25"]
     reference = _residue_route(F, times)
-    for tv, want in zip(times, reference):
+    for tv, text in zip(times, reference):
         got = sp.N(result.subs(t, sp.Rational(tv)), 30)
-        want = sp.Float(want, 40)
+        want = sp.Float(text, 40)
         assert abs(got - want) <= sp.Float("1e-22") * max(1, abs(want))
 
 
@@ -137,6 +137,7 @@ def test_floats_are_taken_as_their_decimal_value():
     (sp.exp(-s) / s, "not a rational function"),
     (1 / (s**3 + a * s + 1), "symbolic coefficients"),
     (1 / (s - s), "not finite"),
+    ("1/(s + 1)", "must be a SymPy expression"),  # text is never parsed
 ])
 def test_errors_are_clear(F, match):
     with pytest.raises(ls.InversionError, match=match):

@@ -20,9 +20,11 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import laplace_springs as ls
-from laplace_springs.exact.algebraic import numeric_value
-from laplace_springs.model.errors import SceneError
 from laplace_springs.bench.reference import relative_error
+from laplace_springs.exact.algebraic import numeric_value
+from laplace_springs.exact.assembly import ExactMotion
+from laplace_springs.exact.jumps import initial_jump, jump_residuals
+from laplace_springs.model.errors import SceneError
 from laplace_springs.model.scene_files import scene_from_toml_text
 
 TIMES = ["0", "0.25", "1", "3.5", "10"]
@@ -46,7 +48,10 @@ def _first_order_form(scene):
     s = [i for i in b if all(C[i, j] == 0 and C[j, i] == 0 for j in range(n))]
     d = [i for i in b if i not in s]
     r = a + d
-    sub = lambda A, rows, cols: A.extract(rows, cols) if rows and cols else sp.zeros(len(rows), len(cols))
+
+    def sub(A, rows, cols):
+        return A.extract(rows, cols) if rows and cols else sp.zeros(len(rows), len(cols))
+
     condense = -sub(K, s, s).inv() * sub(K, s, r) if s else sp.zeros(0, len(r))
     Kt = sub(K, r, r) + sub(K, r, s) * condense  # Schur complement: springs through s
     na, nd = len(a), len(d)
@@ -76,9 +81,11 @@ def condensed_reference(scene, times, dps: int = 40):
     Returns (values, x_plus, v_plus), values of shape (n, len(times)), mpmath numbers.
     """
     Z, y0, X = _first_order_form(scene)
+
+    def to_mp(A):
+        return mpmath.matrix([[mpmath.mpf(e.p) / e.q for e in A.row(i)] for i in range(A.rows)])
+
     with mpmath.workdps(dps):
-        to_mp = lambda A: mpmath.matrix([[mpmath.mpf(e.p) / e.q for e in A.row(i)]
-                                         for i in range(A.rows)]) if A.rows and A.cols else None
         values = np.empty((scene.n, len(times)), dtype=object)
         values[:] = mpmath.mpf(0)
         if Z.rows:
@@ -160,7 +167,7 @@ def test_motion_matches_condensed_reference(name):
     scene = SCENES[name]()
     sol = ls.solve(scene)
     reference, x_plus, v_plus = condensed_reference(scene, TIMES, dps=40)
-    floats = sol.evaluate([float(tv) for tv in TIMES])
+    floats = sol.evaluate(TIMES)  # float64 values at the same exact (decimal) times
     assert relative_error(floats, reference) < 1e-13
     assert relative_error(sol.evaluate(TIMES, dps=30), reference) < 1e-28
     jump = sol.initial_jump  # exact on both routes
@@ -177,8 +184,11 @@ def test_verify_rejects_a_wrong_start():
     sol = ls.solve(maxwell_mass())
     # the same closed form claimed for other data of the mass: its position cannot jump
     other = sol.scene.with_initial(x0=[1, 1])
-    wrong = type(sol)(other, ls.resolvent(other), sol.terms)
-    assert not wrong.verify().ok
+    wrong = ls.ExactSolution(ExactMotion(other, ls.resolvent(other), sol.pieces), reason="wrong on purpose")
+    check = wrong.verify()
+    assert not check.ok
+    assert check.initial_residual > 0.1  # the mass's position is off by 1/2
+    assert sol.verify().ok  # while the same closed form is right for its own data
 
 
 # ---------------------------------------------------------------------------
@@ -295,12 +305,14 @@ def test_g_basis_has_degree_delta_functions_and_rebuilds_x(name):
         for j in range(d - k):  # the first d - k derivatives at 0⁺ (λ^k/D ~ λ^{k-d})
             expected = sp.Rational(1, D.LC()) if j == d - 1 - k else 0
             assert abs(numeric_value(derivatives[j].subs(ls.t, 0), 40) - expected) < 1e-30
-    # x_i = Σ_k c_ik g_k for t > 0
+    # x_i = Σ_k c_ik g_k for t > 0, against the condensed reference (not the code's own x)
+    times = ("0.3", "2")
+    reference, _, _ = condensed_reference(sol.scene, times, dps=50)
     for i in range(sol.scene.n):
         rebuilt = sum(sol.g_coefficients[i, k] * g for k, g in sol.g_basis.items())
-        for tv in ("0.3", "2"):
-            difference = (rebuilt - sol.x[i]).subs(ls.t, sp.Rational(tv))
-            assert abs(numeric_value(difference, 40)) < 1e-30
+        for col, tv in enumerate(times):
+            value = numeric_value(rebuilt.subs(ls.t, sp.Rational(tv)), 40)
+            assert abs(value - sp.Float(reference[i, col], 50)) < 1e-30
 
 
 # ---------------------------------------------------------------------------
@@ -313,18 +325,18 @@ def test_toml_accepts_a_massless_node():
         'title = "Maxwell"\n[masses]\nn = 0\nm = 2\n'
         '[springs]\nk = ["wall", "n", 5]\n[dashpots]\nc = ["n", "m", 3]\n'
         '[initial]\nx0 = {n = 1, m = 0.5}\nv0 = {m = 2}\n', source="maxwell.toml")
-    assert scene.M == sp.diag(0, 2)
+    assert sp.diag(0, 2) == scene.M
     assert ls.solve(scene).verify().ok
 
 
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [
-        (dict(masses={"n": -1, "m": 1}, springs={"k": ("n", "m", 1)}),
+        ({"masses": {"n": -1, "m": 1}, "springs": {"k": ("n", "m", 1)}},
          r"mass 'n' must be positive, got -1; 0 is allowed for a massless node"),
-        (dict(masses={"n": 0, "m": 1}, springs={"k": ("m", "wall", 1)}),
+        ({"masses": {"n": 0, "m": 1}, "springs": {"k": ("m", "wall", 1)}},
          r"pencil .* is singular.*coordinate 0 has no mass and no spring or dashpot"),
-        (dict(masses={"a": 0, "b": 0, "m": 1}, springs={"k": ("a", "b", 1), "k2": ("m", "wall", 1)}),
+        ({"masses": {"a": 0, "b": 0, "m": 1}, "springs": {"k": ("a", "b", 1), "k2": ("m", "wall", 1)}},
          r"pencil .* is singular.*motion along \[1, 1, 0\]"),
     ],
 )
@@ -375,7 +387,7 @@ def physical_scenes(draw):
 @given(physical_scenes())
 def test_random_physical_massless_scenes(scene):
     assume(scene is not None)
-    sol = ls.solve(scene)
+    sol = ls.solve(scene, method="exact")
     assert sol.initial_jump.impulses.cols == 0  # no impulses in physical scenes
     assert sol.verify(samples=("1.3",)).ok  # t = 0⁺ and one more time: verify is slow
     n = scene.n
@@ -386,7 +398,7 @@ def test_random_physical_massless_scenes(scene):
         return  # the reference's first-order form needs an invertible dashpot block
     times = ["0", "0.7", "3"]
     reference, _, _ = condensed_reference(scene, times, dps=40)
-    assert relative_error(sol.evaluate([float(v) for v in times]), reference) < 1e-11
+    assert relative_error(sol.evaluate(times), reference) < 1e-11
 
 
 # ---------------------------------------------------------------------------
@@ -407,7 +419,6 @@ def _with_input(scene, F, common):
 def test_step_force_moves_a_spring_node_at_once():
     # node between wall spring 3 and spring 2 to a resting unit mass, force 1 on the node
     # from t = 0: at 0⁺ it sits at 1/(3 + 2), the mass has not moved
-    from laplace_springs.exact.jumps import initial_jump
     R, N, D = _with_input(spring_node(x0=(0, 0), v0=(0, 0)), [1, 0], ls.lam)
     jump = initial_jump(R, N, D)
     assert list(jump.x_plus) == [sp.Rational(1, 5), 0] and list(jump.v_plus) == [0, 0]
@@ -415,7 +426,6 @@ def test_step_force_moves_a_spring_node_at_once():
 
 def test_impulse_on_a_spring_node_is_an_impulse_in_its_position():
     # force δ(t) on the node: 5 x_n − 2 x_m = δ gives x_n ∋ δ/5 and the mass a kick 2/5
-    from laplace_springs.exact.jumps import initial_jump, jump_residuals
     scene = spring_node(x0=(0, 0), v0=(0, 0))
     R, N, D = _with_input(scene, [1, 0], 1)
     jump = initial_jump(R, N, D)

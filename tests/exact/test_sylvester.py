@@ -15,7 +15,6 @@ import pytest
 import sympy as sp
 
 from laplace_springs.exact.algebraic import numeric_value
-from laplace_springs.model.errors import SceneError
 from laplace_springs.exact.sylvester import (
     cos_sqrt,
     expm,
@@ -26,10 +25,11 @@ from laplace_springs.exact.sylvester import (
     spectral_decomposition,
     sylvester_matrices,
 )
+from laplace_springs.model.errors import SceneError
 from laplace_springs.model.numbers import TIME
 
 t = sp.Symbol("t")
-I, R = sp.I, sp.Rational
+IU, R = sp.I, sp.Rational
 
 # --- the seed, Example 1 -------------------------------------------------------
 A_SEED = sp.Matrix([[3, -1], [-2, 2]])
@@ -38,9 +38,9 @@ Z4_SEED = R(1, 3) * sp.Matrix([[2, -1], [-2, 1]])
 PHI_SEED = sp.sin(t) / 3 * sp.Matrix([[1, 1], [2, 2]]) + sp.sin(2 * t) / 6 * sp.Matrix([[2, -1], [-2, 1]])
 PSI_SEED = sp.cos(t) / 3 * sp.Matrix([[1, 1], [2, 2]]) + sp.cos(2 * t) / 3 * sp.Matrix([[2, -1], [-2, 1]])
 B_SEED = sp.Matrix([[0, 0, 1, 0], [0, 0, 0, 1], [-3, 1, 0, 0], [2, -2, 0, 0]])
-ZJ_SEED = R(1, 6) * sp.Matrix([[1, 1, -I, -I], [2, 2, -2 * I, -2 * I], [I, I, 1, 1], [2 * I, 2 * I, 2, 2]])
-Z2J_SEED = R(1, 12) * sp.Matrix([[4, -2, -2 * I, I], [-4, 2, 2 * I, -I],
-                                 [8 * I, -4 * I, 4, -2], [-8 * I, 4 * I, -4, 2]])
+ZJ_SEED = R(1, 6) * sp.Matrix([[1, 1, -IU, -IU], [2, 2, -2 * IU, -2 * IU], [IU, IU, 1, 1], [2 * IU, 2 * IU, 2, 2]])
+Z2J_SEED = R(1, 12) * sp.Matrix([[4, -2, -2 * IU, IU], [-4, 2, 2 * IU, -IU],
+                                 [8 * IU, -4 * IU, 4, -2], [-8 * IU, 4 * IU, -4, 2]])
 U_COS_T = R(1, 3) * sp.Matrix([[1, 1, 0, 0], [2, 2, 0, 0], [0, 0, 1, 1], [0, 0, 2, 2]])
 U_SIN_T = R(1, 3) * sp.Matrix([[0, 0, 1, 1], [0, 0, 2, 2], [-1, -1, 0, 0], [-2, -2, 0, 0]])
 U_COS_2T = R(1, 3) * sp.Matrix([[2, -1, 0, 0], [-2, 1, 0, 0], [0, 0, 2, -1], [0, 0, -2, 1]])
@@ -121,17 +121,17 @@ def test_projectors_are_complementary_idempotents(matrix):
 def test_seed_first_order_auxiliary_matrices():
     Z = sylvester_matrices(B_SEED)
     # real parts equal (all zero), then |Im| ascending, −iβ before +iβ
-    assert list(Z) == [-I, I, -2 * I, 2 * I]
-    assert Z[I] == ZJ_SEED
-    assert Z[2 * I] == Z2J_SEED
-    assert Z[-I] == ZJ_SEED.conjugate()
-    assert Z[-2 * I] == Z2J_SEED.conjugate()
+    assert list(Z) == [-IU, IU, -2 * IU, 2 * IU]
+    assert Z[IU] == ZJ_SEED
+    assert Z[2 * IU] == Z2J_SEED
+    assert Z[-IU] == ZJ_SEED.conjugate()
+    assert Z[-2 * IU] == Z2J_SEED.conjugate()
 
 
 def test_ordering_real_ascending_then_complex():
     # eigenvalues −1 (double in the 3×3 block), 2, and ±i
     matrix = sp.diag(2, ROT, sp.Matrix([[-1, 1], [0, -1]]))
-    assert list(sylvester_matrices(matrix)) == [-1, 2, -I, I]
+    assert list(sylvester_matrices(matrix)) == [-1, 2, -IU, IU]
 
 
 def test_quadratic_factor_gives_radicals():
@@ -214,7 +214,7 @@ def test_seed_first_order_matrix():
 def test_seed_exponential_exactly():
     U = expm(B_SEED, t)
     assert _is_zero(U - U_SEED)
-    assert not U.has(I)
+    assert not U.has(IU)
 
 
 def test_seed_exponential_terms_are_the_printed_matrices():
@@ -229,7 +229,7 @@ def test_default_time_symbol_is_the_package_t():
 
 def test_numeric_time_gives_exact_numbers():
     U = expm(B_SEED, sp.pi / 2)
-    assert U == U_SEED.subs(t, sp.pi / 2)
+    assert U_SEED.subs(t, sp.pi / 2) == U
 
 
 # ==============================================================================
@@ -251,14 +251,15 @@ def test_nilpotent_stiffness_series():
 
 
 def test_free_free_rigid_body_term_is_t_times_projector():
+    # Sylvester by hand: eigenvalues 0 and 16/3, Z_0 = (A − 16/3 I)/(0 − 16/3) = I − 3A/16
     terms = dict(matrix_function_terms(A_FREE_FREE, "sinc_sqrt", t))
-    assert terms[t] == sylvester_matrices(A_FREE_FREE)[0]
+    assert terms[t] == sp.Matrix([[1, 3], [1, 3]]) / 4
 
 
 def test_unstable_spring_gives_cosh_and_sinh():
     A = sp.Matrix([[1, 2], [2, 1]])  # eigenvalues −1 and 3
     assert cos_sqrt(A, t).has(sp.cosh) and sinc_sqrt(A, t).has(sp.sinh)
-    assert not cos_sqrt(A, t).has(I)
+    assert not cos_sqrt(A, t).has(IU)
 
 
 # ==============================================================================
@@ -279,7 +280,7 @@ EXP_CASES = {
 def test_expm_against_mpmath(name):
     B = EXP_CASES[name]
     U = expm(B, t)
-    assert not U.has(I)
+    assert not U.has(IU)
     with mpmath.workdps(DPS):
         for tv in TIMES:
             assert _max_error(U, _oracle_exp(B, tv), tv) < TOL
@@ -302,7 +303,7 @@ SQRT_CASES = {
 def test_cos_sqrt_and_sinc_sqrt_against_first_order_exponential(name):
     A = SQRT_CASES[name]
     Psi, Phi = cos_sqrt(A, t), sinc_sqrt(A, t)
-    assert not Psi.has(I) and not Phi.has(I)
+    assert not Psi.has(IU) and not Phi.has(IU)
     with mpmath.workdps(DPS):
         for tv in TIMES:
             psi_ref, phi_ref = _oracle_blocks(A, tv)
@@ -315,7 +316,7 @@ def test_random_integer_matrices_against_mpmath(seed):
     rng = random.Random(seed)
     B = sp.Matrix(3, 3, [rng.randint(-3, 3) for _ in range(9)])
     U = expm(B, t)
-    assert not U.has(I)
+    assert not U.has(IU)
     with mpmath.workdps(DPS):
         assert _max_error(U, _oracle_exp(B, R(7, 10)), R(7, 10)) < TOL
 
@@ -329,14 +330,21 @@ def test_callable_polynomial_is_the_matrix_power():
     assert matrix_function(CRITICAL, lambda z: z**3 - 2 * z) == CRITICAL**3 - 2 * CRITICAL
 
 
-def test_callable_exponential_matches_expm():
+def test_callable_exponential_matches_the_oracle():
     B = first_order_matrix(A_SEED, sp.eye(2) / 5)
-    assert _is_zero(matrix_function(B, lambda z: sp.exp(z * t)) - expm(B, t))
+    U = matrix_function(B, lambda z: sp.exp(z * t))
+    assert not U.has(IU)
+    with mpmath.workdps(DPS):
+        for tv in TIMES:
+            assert _max_error(U, _oracle_exp(B, tv), tv) < TOL
 
 
 def test_callable_with_removable_singularity_uses_the_limit():
+    # sin(√z t)/√z at the zero eigenvalue of a free-free pair is its limit t
     f = matrix_function(A_FREE_FREE, lambda z: sp.sin(sp.sqrt(z) * t) / sp.sqrt(z))
-    assert _is_zero(f - sinc_sqrt(A_FREE_FREE, t))
+    with mpmath.workdps(DPS):
+        for tv in TIMES:
+            assert _max_error(f, _oracle_blocks(A_FREE_FREE, tv)[1], tv) < TOL
 
 
 # ==============================================================================
@@ -359,7 +367,7 @@ def test_bad_matrices_raise_scene_error(bad, match):
 def test_floats_and_text_mean_their_decimals():
     # the project's number convention (numbers.to_exact): 0.2 is 1/5, never a binary float
     U = expm([[0.2]], t)
-    assert U == sp.Matrix([[sp.exp(t / 5)]]) and not U.has(sp.Float)
+    assert sp.Matrix([[sp.exp(t / 5)]]) == U and not U.has(sp.Float)
     assert sylvester_matrices([["3", -1], [-2, "2.0"]]) == {1: Z1_SEED, 4: Z4_SEED}
 
 
@@ -371,6 +379,11 @@ def test_first_order_matrix_shape_mismatch():
 def test_first_order_matrix_allows_symbols():
     k, m = sp.symbols("k m", positive=True)
     assert first_order_matrix([[k / m]])[1, 0] == -k / m
+
+
+def test_time_given_as_text_is_refused_not_parsed():
+    with pytest.raises(TypeError, match="t must be a SymPy symbol"):
+        expm(A_SEED, "t")
 
 
 def test_unknown_function_name_and_t_with_callable():

@@ -13,11 +13,21 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
+from laplace_springs.bench.reference import (
+    first_order_matrix_mp,
+    reference_forced_motion,
+    reference_motion,
+    relative_error,
+)
 from laplace_springs.model.forcing import input_transform, parse_forcing
-from laplace_springs.bench.reference import reference_forced_motion, reference_motion, relative_error
 
 t = ls.t
 s = sp.Symbol("s")
+
+
+def _mp(r: sp.Rational) -> mpmath.mpf:
+    """A SymPy rational as an mpf at the current precision."""
+    return mpmath.mpf(int(r.p)) / int(r.q)
 
 
 def _harmonic(w: str) -> tuple[list, list]:
@@ -182,6 +192,15 @@ def test_steady_state_plus_transient_is_the_solution():
     sol = ls.solve(scene)
     assert (sol.x - sol.steady_state - sol.transient).applyfunc(sp.expand) == sp.zeros(2, 1)
     assert not sol.steady_state.has(sp.CRootOf)  # the input's poles only: ±20i
+    # the steady state is Re(X e^{iωt}) with (K − ω²M + iωC) X = F (any vibrations text)
+    with mpmath.workdps(30):
+        P = mpmath.matrix([[_mp(scene.K[i, j]) - 400 * _mp(scene.M[i, j]) + 20j * _mp(scene.C[i, j])
+                            for j in range(2)] for i in range(2)])
+        X = mpmath.lu_solve(P, mpmath.matrix([10, 0]))
+        for tv in ("0.3", "1.1"):
+            expected = [mpmath.re(X[i] * mpmath.expj(20 * mpmath.mpf(tv))) for i in range(2)]
+            got = [sp.N(e.subs(t, sp.Rational(tv)), 30) for e in sol.steady_state]
+            assert relative_error(got, expected) < 1e-25
 
 
 # ----------------------------------------------------------------------------
@@ -192,7 +211,7 @@ def _check_against_exosystem(kw, S, w0, G, times, tol=1e-12):
     scene = ls.Scene.from_matrices(**kw)
     sol = ls.solve(scene)
     values, bound = sol.evaluate(times, return_error=True)
-    reference = reference_forced_motion(scene, S, w0, G, [repr(float(v)) for v in times], dps=50)
+    reference = reference_forced_motion(scene, S, w0, G, times, dps=50)  # the same float times
     error = relative_error(values, reference)
     assert error < tol, error
     assert sol.verify()
@@ -202,14 +221,14 @@ def _check_against_exosystem(kw, S, w0, G, times, tol=1e-12):
 @pytest.mark.parametrize("w", ["1.00000001", "0.99999999", "1.0001"])
 def test_near_resonance_is_stable_in_float64(w):
     S, w0 = _harmonic(w)
-    _check_against_exosystem(dict(M=[[1]], K=[[1]], x0=[0], v0=[0], forcing=[f"cos({w}*t)"]),
+    _check_against_exosystem({"M": [[1]], "K": [[1]], "x0": [0], "v0": [0], "forcing": [f"cos({w}*t)"]},
                              S, w0, [[1, 0]], np.linspace(0, 1e4, 41))
 
 
 def test_light_damping_at_resonance_over_long_horizon():
     S, w0 = _harmonic("1")
-    _check_against_exosystem(dict(M=[[1]], C=[["0.000001"]], K=[[1]], x0=["0.5"], v0=[0],
-                                  forcing=["cos(t)"]),
+    _check_against_exosystem({"M": [[1]], "C": [["0.000001"]], "K": [[1]], "x0": ["0.5"], "v0": [0],
+                              "forcing": ["cos(t)"]},
                              S, w0, [[1, 0]], np.linspace(0, 1e4, 41))
 
 
@@ -217,7 +236,8 @@ def test_two_masses_driven_at_a_natural_frequency():
     # K = [[2,-1],[-1,2]], M = I: natural frequencies 1 and √3; drive mass 1 at ω = 1.
     S, w0 = _harmonic("1")
     sol, _ = _check_against_exosystem(
-        dict(M=[[1, 0], [0, 1]], K=[[2, -1], [-1, 2]], x0=[0, 0], v0=[0, 0], forcing=["cos(t)", "0"]),
+        {"M": [[1, 0], [0, 1]], "K": [[2, -1], [-1, 2]], "x0": [0, 0], "v0": [0, 0],
+         "forcing": ["cos(t)", "0"]},
         S, w0, [[1, 0], [0, 0]], np.linspace(0, 200, 41))
     assert sol.steady_state.has(t * sp.sin(t))  # the secular term of the resonant mode
 
@@ -225,21 +245,21 @@ def test_two_masses_driven_at_a_natural_frequency():
 def test_seed5_driven_matches_exosystem():
     S, w0 = _harmonic("20")
     _check_against_exosystem(
-        dict(M=[["1", "0"], ["0", "0.8"]], C=[["1.9", "-1.4"], ["-1.4", "2.3"]],
-             K=[["779", "-379"], ["-379", "479"]], x0=["0.05", "0.07"], v0=["3", "2"],
-             forcing=["10*cos(20*t)", "0"]),
+        {"M": [["1", "0"], ["0", "0.8"]], "C": [["1.9", "-1.4"], ["-1.4", "2.3"]],
+         "K": [["779", "-379"], ["-379", "479"]], "x0": ["0.05", "0.07"], "v0": ["3", "2"],
+         "forcing": ["10*cos(20*t)", "0"]},
         S, w0, [["10", 0], [0, 0]], np.linspace(0, 4, 41))
 
 
 def test_delayed_step_by_superposition():
     # x(t) = free motion + step response started at τ = 1 (step response from the
     # exosystem with a constant state, shifted in time).
-    kw = dict(M=[[1]], C=[["0.5"]], K=[[4]], x0=[1], v0=[0])
+    kw = {"M": [[1]], "C": [["0.5"]], "K": [[4]], "x0": [1], "v0": [0]}
     sol = ls.solve(ls.Scene.from_matrices(**kw, forcing=["3*Heaviside(t - 1)"]))
     times = np.linspace(0, 10, 21)
-    free = reference_motion(ls.Scene.from_matrices(**kw), [repr(float(v)) for v in times], dps=40)
+    free = reference_motion(ls.Scene.from_matrices(**kw), times, dps=40)
     rest = ls.Scene.from_matrices(M=[[1]], C=[["0.5"]], K=[[4]], x0=[0], v0=[0])
-    shifted = [repr(max(float(v) - 1.0, 0.0)) for v in times]
+    shifted = [max(float(v) - 1.0, 0.0) for v in times]  # exact: the times are multiples of 1/2
     step = reference_forced_motion(rest, [[0]], [3], [[1]], shifted, dps=40)
     expected = [free[0, k] + (step[0, k] if v >= 1 else 0) for k, v in enumerate(times)]
     assert relative_error(sol.evaluate(times)[0], expected) < 1e-13
@@ -279,16 +299,22 @@ def test_damping_ratio_of_a_single_mass():
 
 
 def test_frequency_response_exact_and_numeric_agree():
+    # H(iω) is the inverse of K − ω²M + iωC: checked for both forms, against a 30-digit
+    # mpmath inverse of that matrix (independent of the code under test)
     scene = ls.load_scene("three-dashpots")
     H = ls.frequency_response(scene)
     omegas = [3.0, 15.99, 40.0]
     numeric = ls.frequency_response(scene, omegas)
+
     for k, w in enumerate(omegas):
-        exact = np.array(H.subs(ls.omega, sp.Rational(repr(w))).evalf(30).tolist(), dtype=complex)
-        assert np.allclose(numeric[k], exact, rtol=1e-12, atol=0)
-    # H(iω) is the inverse of K - ω²M + iωC
-    P = np.array((scene.K - 9 * scene.M + 3j * scene.C).evalf().tolist(), dtype=complex)
-    assert np.allclose(numeric[0] @ P, np.eye(2), atol=1e-13)
+        with mpmath.workdps(30):
+            wm = mpmath.mpf(w)  # the float's exact value
+            P = mpmath.matrix([[_mp(scene.K[i, j]) - _mp(scene.M[i, j]) * wm**2 + 1j * wm * _mp(scene.C[i, j])
+                                for j in range(2)] for i in range(2)])
+            inverse = np.array(P**-1, dtype=complex).reshape(2, 2)
+        exact = np.array(H.subs(ls.omega, sp.Rational(w)).evalf(30).tolist(), dtype=complex)
+        assert np.allclose(numeric[k], inverse, rtol=1e-12, atol=0)
+        assert np.allclose(exact, inverse, rtol=1e-12, atol=0)
 
 
 def test_resonance_without_damping_has_no_steady_state():
@@ -313,8 +339,7 @@ def test_irreducible_biquadratic_free_motion():
                                      springs={"k1": ("wall", "m1", 20), "k2": ("m1", "m2", 4)},
                                      x0=[1, 0], v0=[0, 1])
     times = np.linspace(0, 20, 11)
-    assert relative_error(ls.solve(scene).evaluate(times),
-                          reference_motion(scene, [repr(float(v)) for v in times])) < 1e-13
+    assert relative_error(ls.solve(scene).evaluate(times), reference_motion(scene, times)) < 1e-13
 
 
 def test_irreducible_biquadratic_prints_real_frequencies():
@@ -329,8 +354,6 @@ def test_irreducible_biquadratic_prints_real_frequencies():
 def test_modes_with_rescaled_algebraic_roots():
     # SymPy returns k*CRootOf(...) for some quartics; the modes must still come out,
     # matching mpmath's eigenvalues of the first-order matrix.
-    from laplace_springs.bench.reference import first_order_matrix_mp
-
     scene = ls.Scene.from_components(masses={"m0": "3e-3", "m1": 3},
                                      springs={"k1": ("wall", "m0", 2), "k2": ("m0", "m1", 50)},
                                      dashpots={"c": ("m0", "m1", 10)})
