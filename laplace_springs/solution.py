@@ -29,6 +29,10 @@ from typing import Any, ClassVar
 import numpy as np
 import sympy as sp
 
+from .exact.assembly import Piece
+from .exact.jumps import InitialJump
+from .exact.real_terms import Term
+from .exact.resolvent import Resolvent
 from .model.errors import SceneError
 from .model.scene import Scene
 from .model.symbols import TIME
@@ -36,7 +40,13 @@ from .numeric.first_order import massless_nodes, scene_arrays
 from .numeric.times import Times, as_times, check_dps
 from .output.latex import matrix_latex
 from .output.plots import plot_energy, plot_motion, plot_phase
-from .policy import MIN_RELATIVE_BOUND, check_target, escalate_columns, reference_scale
+from .policy import (
+    EXACT_FORM_MAX_COORDINATES,
+    MIN_RELATIVE_BOUND,
+    check_target,
+    escalate_columns,
+    reference_scale,
+)
 
 __all__ = ["Solution", "Verification", "DEFAULT_SAMPLES", "t"]
 
@@ -183,8 +193,11 @@ class Solution(ABC):
         mask = escalate_columns(values, bounds, self._floor(order), goal)
         if mask.any() and self.escalation is not None:
             columns = np.flatnonzero(mask)
-            better, better_bounds = self._escalate(T.subset(columns), order, goal)
-            values[:, columns], bounds[:, columns] = better, better_bounds
+            other, other_bounds = self._escalate(T.subset(columns), order, goal)
+            with np.errstate(invalid="ignore"):  # keep, per time, whichever bound is smaller
+                take = ~(np.max(other_bounds, axis=0) > np.max(bounds[:, columns], axis=0))
+            values[:, columns[take]] = other[:, take]
+            bounds[:, columns[take]] = other_bounds[:, take]
         _check_float_result(values, bounds, T)
         bounds = np.maximum(bounds, MIN_RELATIVE_BOUND * np.abs(values)) + _TINY
         return (values, bounds) if return_error else values
@@ -234,6 +247,91 @@ class Solution(ABC):
         slowest = float(-poles.real.max()) if len(poles) else 0.0
         return (f"<{type(self).__name__} of {self.scene!r}: {len(poles)} poles, slowest decay "
                 f"rate {slowest:.3g}; method={self.method!r}: {self.reason}>")
+
+    # -- the exact form, on every route (built on first use where affordable) ------------
+    @property
+    def exact(self) -> Any:
+        """The exact solution of the scene (an ``ExactSolution``), built on first use.
+
+        Raises
+        ------
+        ValueError
+            When the scene is too large for an exact form (more than
+            :data:`~laplace_springs.policy.EXACT_FORM_MAX_COORDINATES` coordinates).
+        """
+        exact = self._exact_form
+        if exact is None:
+            raise ValueError(f"the exact form is built up to EXACT_FORM_MAX_COORDINATES = "
+                             f"{EXACT_FORM_MAX_COORDINATES} coordinates; this scene has "
+                             f"{self.scene.n}: use x (Float coefficients) and evaluate()")
+        return exact
+
+    @property
+    def resolvent(self) -> Resolvent:
+        """Δ(λ), adj(λ) and X(λ) (see :mod:`laplace_springs.exact.resolvent`)."""
+        return self.exact.motion.resolvent
+
+    @property
+    def pieces(self) -> tuple[Piece, ...]:
+        """The exact motion's pieces, one per delay of the inputs (delay 0 first)."""
+        return self.exact.motion.pieces
+
+    @property
+    def terms(self) -> tuple[tuple[Term, ...], ...]:
+        """The real terms of each coordinate (of the piece switched on at t = 0)."""
+        return self.exact.motion.terms
+
+    @cached_property
+    def steady_state(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the input's poles: what the forcing sustains.
+
+        Zero for a free motion; at exact resonance of an undamped system the secular
+        t·sin term belongs here (its pole is the input's).
+        """
+        return self.exact.motion.part("steady")
+
+    @cached_property
+    def transient(self) -> sp.ImmutableMatrix:
+        """The part of x(t) with the system's own poles only: x = transient + steady_state."""
+        return self.exact.motion.part("transient")
+
+    @property
+    def initial_jump(self) -> InitialJump:
+        """x(0⁺), x'(0⁺) and what jumped at t = 0 (see ``ExactMotion.initial_jump``)."""
+        return self.exact.motion.initial_jump
+
+    @property
+    def g_denominator(self) -> sp.Poly:
+        """The Δ(λ) of the g-basis: integer, content 1 (as the seed prints it)."""
+        return self.exact.motion.g_denominator
+
+    @property
+    def g_coefficients(self) -> sp.ImmutableMatrix:
+        """c_ik with x_i(t) = Σ_k c_ik g_k(t) (the seed's K_j and N_j)."""
+        return self.exact.motion.g_coefficients
+
+    @property
+    def g_indices(self) -> tuple[int, ...]:
+        """The k whose g_k occurs in some coordinate."""
+        return self.exact.motion.g_indices
+
+    @property
+    def g_basis(self) -> dict[int, sp.Expr]:
+        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
+        return self.exact.motion.g_basis
+
+    def g_form(self) -> sp.ImmutableMatrix:
+        """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
+        return self.exact.motion.g_form()
+
+    @property
+    def definitions(self) -> dict:
+        """Named quantity → definition for the names in :attr:`x` (empty for numeric scenes)."""
+        return self.exact.motion.definitions
+
+    def substituted(self) -> sp.ImmutableMatrix:
+        """:attr:`x` with every named quantity replaced by its definition."""
+        return self.exact.motion.substituted()
 
     # -- plots (need matplotlib) --------------------------------------------------------
     def plot(self, ax: Any = None, **kw: Any) -> Any:

@@ -84,7 +84,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
 
     >>> sol = solve(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0]))
     >>> sol.method, sol.x[0]
-    ('exact', t*exp(-t) + exp(-t))
+    ('certified', t*exp(-t) + exp(-t))
     >>> sol.evaluate([0.0, 1.0]).round(12)
     array([[1.        , 0.73575888]])
     """

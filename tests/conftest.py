@@ -7,14 +7,14 @@ import os
 import pytest
 from hypothesis import settings
 
+from laplace_springs.bench.reference import reference_motion, relative_error
+
 # The suite is deterministic: property tests draw the same examples on every run and
 # machine, so CI cannot fail on a draw nobody saw. HYPOTHESIS_PROFILE=explore draws new
 # examples each run (what to use while hunting for bugs).
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("explore", derandomize=False, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
-
-from laplace_springs.bench.reference import reference_motion, relative_error
 
 __all__ = ["reference_motion", "relative_error"]
 

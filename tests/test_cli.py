@@ -268,8 +268,8 @@ def _environment() -> dict[str, str]:
 
 def test_python_dash_m_runs_the_command_line():
     result = subprocess.run([sys.executable, "-m", "laplace_springs", "solve", "vertical-pair",
-                             "--at", "0.5,2"], capture_output=True, text=True, timeout=120,
-                            env=_environment())
+                             "--at", "0.5,2"], check=False, capture_output=True, text=True,
+                            timeout=120, env=_environment())
     assert result.returncode == 0, result.stderr
     _, rows = table(result.stdout)
     for time, x1, x2 in rows:
@@ -279,7 +279,7 @@ def test_python_dash_m_runs_the_command_line():
 def test_installed_entry_point_reports_errors_without_traceback():
     script = Path(sys.executable).with_name("laplace-springs")
     command = [str(script)] if script.exists() else [sys.executable, "-m", "laplace_springs"]
-    result = subprocess.run([*command, "solve", "no-such-scene"], capture_output=True,
+    result = subprocess.run([*command, "solve", "no-such-scene"], check=False, capture_output=True,
                             text=True, timeout=120, env=_environment())
     assert result.returncode == 2
     assert result.stdout == ""

@@ -104,7 +104,8 @@ def test_two_identical_free_free_chains_of_nine_masses():
 def test_heavily_damped_stiff_scenes_on_the_modal_route(seed):
     # the modal estimate used to sit 2-3x below the true error here
     rng = np.random.default_rng(seed)
-    draw = lambda low, high, k: [f"{10 ** rng.uniform(low, high):.3g}" for _ in range(k)]
+    def draw(low, high, k):
+        return [f"{10 ** rng.uniform(low, high):.3g}" for _ in range(k)]
     n = int(rng.integers(3, 6))
     scene = chain(n, springs=draw(-2, 5, n + 1), dashpots=draw(0, 4, n + 1), masses=draw(-2, 1, n))
     slow = min(abs(p) for p in ls.solve(scene, method="modal").poles)
@@ -114,8 +115,7 @@ def test_heavily_damped_stiff_scenes_on_the_modal_route(seed):
 
 def test_exact_route_at_huge_phases():
     # x'' + 2x = 0, x(0) = 1: the estimate stayed 1.8e-15 while the error reached 4e-3
-    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[2]], x0=[1], v0=[0]))
-    assert sol.method == "exact"
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[2]], x0=[1], v0=[0]), method="exact")
     times = [1e18, 1e20, 1e25, 1e30]
     values, bounds = sol.evaluate(times, return_error=True)
     with mpmath.workdps(80):
@@ -126,7 +126,8 @@ def test_exact_route_at_huge_phases():
 @pytest.mark.parametrize("exponent", [94, 100, 200])
 def test_exact_route_with_a_stiffness_of_ten_to_the(exponent):
     # x'' + 10^94 x = 0 gave the wrong sign at t = 1
-    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[f"1e{exponent}"]], x0=[1], v0=[0]))
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[f"1e{exponent}"]], x0=[1], v0=[0]),
+                   method="exact")
     values = sol.evaluate([0.0, 1.0])
     with mpmath.workdps(exponent // 2 + 40):
         exact = float(mpmath.cos(mpmath.mpf(10) ** (exponent // 2)))
@@ -184,7 +185,8 @@ def test_derivatives_on_every_route(method):
     times = [0.0, 0.5, 3.0]
     with mpmath.workdps(40):
         w = mpmath.sqrt(mpmath.mpf(4) - mpmath.mpf("0.01"))
-        x = lambda t: mpmath.exp(-t / 10) * (mpmath.cos(w * t) + mpmath.sin(w * t) / (10 * w))
+        def x(t):
+            return mpmath.exp(-t / 10) * (mpmath.cos(w * t) + mpmath.sin(w * t) / (10 * w))
         for order in (1, 2):
             values, bounds = sol.evaluate(times, derivative=order, return_error=True)
             exact = [float(mpmath.diff(x, mpmath.mpf(tv), order)) for tv in times]
@@ -248,3 +250,14 @@ def test_verify_has_one_signature():
     for method in ROUTES:
         report = ls.solve(scene, method=method).verify(samples=("0.5", "2"), tolerance=1e-9)
         assert report and report.tolerance == 1e-9
+
+
+def test_auto_picks_the_fastest_route_and_keeps_the_exact_form_at_hand():
+    small = ls.solve(ls.load_scene("three-dashpots"))  # rational, 2 coordinates
+    assert small.method == "certified" and "CERTIFIED_AUTO_MAX_COORDINATES" in small.reason
+    exact = ls.solve(ls.load_scene("three-dashpots"), method="exact")
+    assert small.x == exact.x and small.g_basis == exact.g_basis  # built when asked
+    forced = ls.solve(ls.load_scene("vertical-pair").with_forcing(["cos(t)", 0]))
+    assert forced.method == "exact"
+    symbolic = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0]))
+    assert symbolic.method == "exact"

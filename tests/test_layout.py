@@ -59,7 +59,8 @@ def _graph() -> dict[str, set[str]]:
     modules = {_module_name(p): p for p in PACKAGE.rglob("*.py")}
     graph: dict[str, set[str]] = {name: set() for name in modules}
     for name, path in modules.items():
-        for target, _, _ in _imports(path):
+        for imported, _, _ in _imports(path):
+            target = imported
             while target and target not in modules:  # "pkg.module.name" -> "pkg.module"
                 target = target.rpartition(".")[0]
             if target and target != name and target != "laplace_springs":

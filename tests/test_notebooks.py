@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
-from _notebook_runs import NOTEBOOKS, executed_notebooks
-SEED_WALKTHROUGHS = [path for path in NOTEBOOKS if "example" in path.name]
+
+from tests._notebook_runs import NOTEBOOKS, executed_notebooks
 
 
 def test_there_is_a_notebook_per_topic():

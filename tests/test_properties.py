@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -22,7 +23,7 @@ from laplace_springs.model.scene_files import scene_from_toml_text
 
 TIMES = np.array([0.0, 0.4, 1.1, 3.0, 8.5])
 SMALL = ["1/2", "1", "3/2", "2", "3", "1/3", "5/4"]
-SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = {"deadline": None, "suppress_health_check": [HealthCheck.too_slow]}
 
 
 # ----------------------------------------------------------------------------- physical scenes
@@ -103,10 +104,8 @@ def _matrix_like():
 
 
 def _only_scene_errors(build) -> None:
-    try:
+    with contextlib.suppress(SceneError):
         build()
-    except SceneError:
-        pass
 
 
 @settings(max_examples=100, **SETTINGS)

@@ -19,8 +19,8 @@ exact rational arithmetic in python-flint:
 
 Evaluation sums Re Σ c t^k e^{ρt} in ball arithmetic (``acb_mat`` products); the returned
 value is the ball's midpoint and the error bound its radius plus the final rounding, so
-the bound is certified. The working precision starts from the digits of the largest phase
-|ρ|t and is doubled, per column, until the radius meets the caller's target.
+the bound is certified. The working precision starts from the digits of the largest
+phase, abs(ρ)·t, and is doubled, per column, until the radius meets the caller's target.
 
 For the float64 fast path the same poles and residues become a
 :class:`~laplace_springs.numeric.pole_sum.PoleSum` (midpoints at 40+ digits), evaluated by
@@ -346,9 +346,10 @@ def certified_values(poles: CertifiedPoles, times: Times, order: int, target: fl
         mids, rads = poles.evaluate(times.subset(pending), order, bits)
         with np.errstate(over="ignore", invalid="ignore"):
             rads = rads + np.abs(mids) * _EPS
+            finite = np.all(np.isfinite(mids) & np.isfinite(rads), axis=0)
             scale = np.maximum(np.max(np.abs(mids), axis=0), floor)
-            done = np.all(rads <= target * scale[None, :], axis=0) & np.all(np.isfinite(mids), axis=0)
-        better = np.all(rads < bounds[:, pending], axis=0)
+            done = np.all(rads <= target * scale[None, :], axis=0) & finite
+            better = finite & (np.max(rads, axis=0) <= np.max(bounds[:, pending], axis=0))
         values[:, pending[better]], bounds[:, pending[better]] = mids[:, better], rads[:, better]
         pending = pending[~done]
         bits *= 2

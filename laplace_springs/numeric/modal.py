@@ -744,9 +744,10 @@ class ModalMotion:
     def _affine(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         if self.split is None:
             return None
-        lift = np.array(self.split.lift.tolist(), dtype=float)
-        offset = np.array([float(v) for v in self.split.offset])
-        slope = np.array([float(v) for v in self.split.slope])
+        lift = np.array([[float(self.split.lift[i, j]) for j in range(self.split.lift.ncols())]
+                         for i in range(self.split.lift.nrows())])
+        offset = np.array([float(self.split.offset[i, 0]) for i in range(self.split.offset.nrows())])
+        slope = np.array([float(self.split.slope[i, 0]) for i in range(self.split.slope.nrows())])
         return lift, offset, slope
 
     @property
@@ -793,10 +794,12 @@ class ModalMotion:
         rows = [self.scale * e for e in inner]
         if self.split is None:
             return sp.ImmutableMatrix(rows)
-        lift, offset, slope = self.split.lift, self.split.offset, self.split.slope
-        out = [sp.Add(*(sp.Float(float(lift[i, j]), 15) * rows[j] for j in range(len(rows))))
-               + sp.Float(float(offset[i]), 15) + sp.Float(float(slope[i]), 15) * TIME
-               for i in range(lift.rows)]
+        affine = self._affine
+        assert affine is not None
+        lift, offset, slope = affine
+        out = [sp.Add(*(sp.Float(lift[i, j], 15) * rows[j] for j in range(len(rows)) if lift[i, j]))
+               + sp.Float(offset[i], 15) + sp.Float(slope[i], 15) * TIME
+               for i in range(len(offset))]
         return sp.ImmutableMatrix(out)
 
 
@@ -820,8 +823,10 @@ def decompose_modal(scene: Scene) -> ModalMotion:
     array([[1.        , 0.73575888]])
     """
     split = rigid_split(scene) if not scene.is_forced else None
-    moving = split.inner if split is not None else scene
-    modes, scale = decompose(*scene_arrays(moving), rounding=_rounding(moving))
+    if split is not None:
+        modes, scale = decompose(*split.arrays(), rounding=split.rounding())
+    else:
+        modes, scale = decompose(*scene_arrays(scene), rounding=_rounding(scene))
     return ModalMotion(modes, scale, split)
 
 

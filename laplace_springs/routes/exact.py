@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from functools import cached_property
 from typing import Any
 
 import mpmath
@@ -18,10 +17,8 @@ import numpy as np
 import sympy as sp
 
 from ..exact.algebraic import numeric_value
-from ..exact.assembly import ExactMotion, Piece, exact_motion
-from ..exact.jumps import InitialJump, jump_residuals
-from ..exact.real_terms import Term
-from ..exact.resolvent import Resolvent
+from ..exact.assembly import ExactMotion, exact_motion
+from ..exact.jumps import jump_residuals
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -63,73 +60,6 @@ class ExactSolution(Solution):
         """x(t) as a SymPy column matrix; a response to an input delayed by τ carries
         Heaviside(t − τ), nothing else does (the solution holds for t ≥ 0)."""
         return self.motion.x
-
-    @property
-    def resolvent(self) -> Resolvent:
-        """Δ(λ), adj(λ) and X(λ) (see :mod:`laplace_springs.exact.resolvent`)."""
-        return self.motion.resolvent
-
-    @property
-    def terms(self) -> tuple[tuple[Term, ...], ...]:
-        """The real terms of each coordinate (of the piece switched on at t = 0)."""
-        return self.motion.terms
-
-    @property
-    def pieces(self) -> tuple[Piece, ...]:
-        """The motion's pieces, one per delay of the inputs (delay 0 first)."""
-        return self.motion.pieces
-
-    @cached_property
-    def steady_state(self) -> sp.ImmutableMatrix:
-        """The part of x(t) with the input's poles: what the forcing sustains.
-
-        Zero for a free motion; at exact resonance of an undamped system the secular
-        t·sin term belongs here (its pole is the input's).
-        """
-        return self.motion.part("steady")
-
-    @cached_property
-    def transient(self) -> sp.ImmutableMatrix:
-        """The part of x(t) with the system's own poles only: x = transient + steady_state."""
-        return self.motion.part("transient")
-
-    @property
-    def initial_jump(self) -> InitialJump:
-        """x(0⁺), x'(0⁺) and what jumped at t = 0 (see :attr:`ExactMotion.initial_jump`)."""
-        return self.motion.initial_jump
-
-    @property
-    def g_denominator(self) -> sp.Poly:
-        """The Δ(λ) of the g-basis: integer, content 1 (as the seed prints it)."""
-        return self.motion.g_denominator
-
-    @property
-    def g_coefficients(self) -> sp.ImmutableMatrix:
-        """c_ik with x_i(t) = Σ_k c_ik g_k(t) (the seed's K_j and N_j)."""
-        return self.motion.g_coefficients
-
-    @property
-    def g_indices(self) -> tuple[int, ...]:
-        """The k whose g_k occurs in some coordinate."""
-        return self.motion.g_indices
-
-    @property
-    def g_basis(self) -> dict[int, sp.Expr]:
-        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
-        return self.motion.g_basis
-
-    def g_form(self) -> sp.ImmutableMatrix:
-        """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
-        return self.motion.g_form()
-
-    @property
-    def definitions(self) -> dict:
-        """Named quantity → definition for the names in :attr:`x` (empty for numeric scenes)."""
-        return self.motion.definitions
-
-    def substituted(self) -> sp.ImmutableMatrix:
-        """:attr:`x` with every named quantity replaced by its definition."""
-        return self.motion.substituted()
 
     @property
     def poles(self) -> np.ndarray:

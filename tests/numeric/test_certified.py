@@ -85,8 +85,9 @@ def test_repeated_frequencies_of_two_identical_chains():
     one = chain(3, damping="0")
     M, K = one.M, one.K
     n = one.n
-    big = lambda A: [[A[i % n, j % n] if i // n == j // n else 0 for j in range(2 * n)]
-                     for i in range(2 * n)]
+    def big(A):
+        return [[A[i % n, j % n] if i // n == j // n else 0 for j in range(2 * n)]
+                         for i in range(2 * n)]
     scene = Scene.from_matrices(M=big(M), K=big(K), x0=[1, 0, 0, 0, "1/2", 0], v0=[0] * 6)
     data = certified_poles(scene)
     assert all(multiplicity == 1 for _, multiplicity in data.factors)
