@@ -18,8 +18,9 @@ ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(HERE))
 
-import laplace_springs  # noqa: E402
-import make_figures  # noqa: E402
+import make_figures
+
+import laplace_springs
 
 project = "laplace_springs"
 author = "laplace_springs contributors"
@@ -72,7 +73,7 @@ def _copy_notebooks() -> None:
         shutil.copy2(executed if executed.exists() else notebook, target / notebook.name)
 
 
-def setup(app):  # noqa: D103
+def setup(app):
     _copy_notebooks()
     make_figures.main(HERE / "_static" / "scenes")
     _connect_hygiene(app)
@@ -101,22 +102,24 @@ def _split_glued_header(lines: list[str]) -> list[str]:
 
 
 def _escape_bars(lines: list[str]) -> list[str]:
-    """Escape ``|`` (absolute values such as |x|) outside doctests and literal blocks."""
+    """Escape ``|`` (absolute values such as |x|) outside doctests, literal blocks, line blocks
+    (``| text``) and grid tables (``+---``); a line that opens with an absolute value, such as
+    ``|x_i(t) − value_i| ≤ ...``, is escaped too."""
     out, literal_indent = [], None
     for line in lines:
         stripped = line.strip()
         indent = len(line) - len(line.lstrip())
         if literal_indent is not None and stripped and indent <= literal_indent:
             literal_indent = None
-        if literal_indent is None and not stripped.startswith((">>>", "...", "|", "+")):
-            line = line.replace("|", "\\|")
+        structural = stripped in ("|", "+") or stripped.startswith(("| ", "+-", "+="))
+        escape = literal_indent is None and not stripped.startswith((">>>", "...")) and not structural
+        out.append(line.replace("|", "\\|") if escape else line)
         if stripped.endswith("::"):
             literal_indent = indent
-        out.append(line)
     return out
 
 
-def _clean_docstring(app, what, name, obj, options, lines):  # noqa: ARG001
+def _clean_docstring(app, what, name, obj, options, lines):
     lines[:] = _escape_bars(_split_glued_header(lines))
 
 

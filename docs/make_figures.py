@@ -14,15 +14,16 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-import laplace_springs as ls  # noqa: E402
-from laplace_springs.output.plots import plot_motion  # noqa: E402
+import laplace_springs as ls
+from laplace_springs.output.plots import plot_motion
 
 _METADATA = {"Software": None}
+_DEFAULT_OUTDIR = Path(__file__).resolve().parent / "_static" / "scenes"
 
 
-def main(outdir: Path | str = Path(__file__).resolve().parent / "_static" / "scenes") -> list[Path]:
+def main(outdir: Path | str = _DEFAULT_OUTDIR) -> list[Path]:
     """Write the PNGs; return their paths."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -30,7 +31,7 @@ def main(outdir: Path | str = Path(__file__).resolve().parent / "_static" / "sce
     for name in ls.bundled_scenes():
         scene = ls.load_scene(name)
         solution = ls.solve(scene)
-        for kind, ax in (("diagram", scene.draw()), ("motion", plot_motion(solution))):
+        for kind, ax in (("diagram", ls.draw_scene(scene)), ("motion", plot_motion(solution))):
             path = outdir / f"{name}-{kind}.png"
             ax.figure.savefig(path, dpi=90, bbox_inches="tight", metadata=_METADATA)
             plt.close(ax.figure)
