@@ -261,3 +261,16 @@ def test_auto_picks_the_fastest_route_and_keeps_the_exact_form_at_hand():
     assert forced.method == "exact"
     symbolic = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0]))
     assert symbolic.method == "exact"
+
+
+@pytest.mark.parametrize("method", ["exact", "certified"])
+def test_a_value_that_cancels_to_zero_keeps_an_honest_bound(method):
+    # x4(0) = 0 is the sum of pole-sum coefficients of size 0.27: the float64 kernel gets
+    # -2.9e-42 from the 40-digit data, and its bound used to be 1e-56 (relative to the
+    # cancelled Newton coefficient instead of the data it came from)
+    scene = ls.Scene.from_matrices(
+        M=[["299/100", 0, 0, 0], [0, "191/50000", 0, 0], [0, 0, "51/5", 0], [0, 0, 0, "517/1000"]],
+        K=[["699", "-699", 0, 0], ["-699", "69900123/100000", "-123/100000", 0],
+           [0, "-123/100000", "3473/100000", "-67/2000"], [0, 0, "-67/2000", "67/2000"]],
+        x0=["67/500", 0, "-99/250", 0], v0=[0, "-39/50", "-183/1000", "897/1000"])
+    check_contract(ls.solve(scene, method=method), scene, [0.0, 0.01, 3.0, 1e4])

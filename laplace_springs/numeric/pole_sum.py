@@ -101,6 +101,7 @@ class Block:
     d: np.ndarray
     magnitude: np.ndarray = field(repr=False)  # |d| summed over coordinates, (M,)
     precision: float = 0.0  # relative error of the high-precision data behind d
+    data_error: np.ndarray | None = field(default=None, repr=False)  # absolute, (M, n)
 
 
 # ----------------------------------------------------------------------------- Newton form
@@ -167,8 +168,29 @@ def _make_block(form: PoleSum, block: Sequence[int], t_high: float) -> Block:
         delta = np.array([complex(form.nodes[j] - centre) for j in order])
         mu = (*_dd(mpmath.re(centre)), *_dd(mpmath.im(centre)))
         dc = np.array([[complex(v) for v in dm] for dm in d], dtype=complex)
+    precision = 10.0 ** (3 - form.dps)
     return Block(tuple(block), -1.0, t_high, 2.0 if upper else 1.0, mu, delta, dc,
-                 np.abs(dc).sum(axis=1), 10.0 ** (3 - form.dps))
+                 np.abs(dc).sum(axis=1), precision, _data_error(form, block, delta, precision))
+
+
+def _data_error(form: PoleSum, block: Sequence[int], delta: np.ndarray,
+                precision: float) -> np.ndarray:
+    """Absolute errors of the Newton coefficients d_m from the data's own precision, (M, n).
+
+    d_m = Σ C_jk ∂^k ω_{m−1}(z_j) combines coefficients C of the block's nodes; where the
+    d_m cancel (a value that is exactly zero, say) their error is that of the C, not a
+    fraction of d: precision · Σ|C| · (m + 1)^K · max(1, diameter)^m, K the largest
+    power of t.
+    """
+    size = np.zeros(form.n)
+    for j in block:
+        for ck in form.coefficients[j]:
+            size += np.array([abs(complex(c)) for c in ck])
+    diameter = max(1.0, 2 * float(np.max(np.abs(delta), initial=0.0)))
+    powers = max(len(form.coefficients[j]) for j in block) - 1
+    m = np.arange(delta.size)
+    growth = (m + 1.0) ** powers * diameter ** m
+    return precision * growth[:, None] * size[None, :]
 
 
 def _size(block: Block, t: float) -> float:
@@ -369,6 +391,8 @@ def _block_values(block: Block, t: np.ndarray,
         phase = (_PHASE_UNIT + block.precision) * reach * np.abs(t + t_lo)
         kappa = _EPS * 2.0 * (size + squarings + 3) + block.precision + phase
         bound = (kappa * block.factor * scale)[:, None] * (bound_rows @ np.abs(block.d))
+        if block.data_error is not None:
+            bound += (block.factor * scale)[:, None] * (bound_rows @ block.data_error)
     return values.T, bound.T
 
 
