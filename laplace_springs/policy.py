@@ -59,10 +59,11 @@ ROUTES = ("exact", "modal", "certified")
 #: What ``solve(method=...)`` accepts; "numeric" is the former name of "modal".
 METHODS = ("auto", *ROUTES, "numeric")
 
-#: "auto" certifies rational scenes up to this many coordinates: measured (1000 times,
-#: damped chains) certified 2–18 ms for 1–6 masses where modal takes 4–25 ms and the exact
-#: route 20–450 ms; at 8 masses modal is faster (13 ms against 34 ms).
-CERTIFIED_AUTO_MAX_COORDINATES = 6
+#: "auto" certifies rational scenes up to this many coordinates. Measured with
+#: benchmarks/bench_routes.py (damped chains, 1000 times): certified 2–10 ms for 1–4
+#: masses where modal takes 3–21 ms and the exact route 20–160 ms; from 6 masses on the
+#: two are close or modal is faster (8 masses: 18 ms against 35 ms).
+CERTIFIED_AUTO_MAX_COORDINATES = 4
 #: "auto" solves exactly up to this many coordinates when the certified route cannot take
 #: the scene (irrational entries): Δ of degree ≤ 4, radicals, milliseconds.
 EXACT_AUTO_MAX_COORDINATES = 2
