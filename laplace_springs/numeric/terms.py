@@ -159,16 +159,11 @@ def numeric_terms(rows: Sequence[Sequence[Term]], dps: int = 40) -> NumericTerms
 
     Examples
     --------
-    (cos t − cos(1.00000001 t))/(1.00000001² − 1): two poles 1e-8 apart whose
-    coefficients (5e7) cancel; float64 evaluation keeps full accuracy.
+    e^{-t}(cos 2t + sin 2t) is the pole pair −1 ± 2i with coefficients (1 ∓ i)/2:
 
-    >>> import sympy as sp
-    >>> w = sp.Rational(100000001, 100000000)
-    >>> A = 1 / (w**2 - 1)
-    >>> terms = [Term("oscillatory", 0, 0, 1, A, 0), Term("oscillatory", 0, 0, w, -A, 0)]
-    >>> data = numeric_terms([terms])
-    >>> data.poles.nodes[0]
-    mpc(real='0.0', imag='1.0')
+    >>> data = numeric_terms([[Term("oscillatory", 0, -1, 2, 1, 1)]], dps=20)
+    >>> data.poles.nodes, data.poles.coefficients[0][0][0]
+    ((mpc(real='-1.0', imag='2.0'), mpc(real='-1.0', imag='-2.0')), mpc(real='0.5', imag='-0.5'))
     """
     rows = tuple(tuple(r) for r in rows)
     builder = _Builder(len(rows), dps)
