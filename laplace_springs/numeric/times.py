@@ -136,11 +136,12 @@ def as_times(times: object) -> Times:
     ...
     ValueError: times[1] must be finite, got nan
     """
-    if isinstance(times, np.ndarray) and times.dtype.kind in "fiu":
-        hi = np.atleast_1d(times).astype(float).ravel()
+    numeric = times if isinstance(times, np.ndarray) else _plain_numbers(times)
+    if numeric is not None and numeric.dtype.kind in "fiu":
+        hi = np.atleast_1d(numeric).astype(float).ravel()
         bad = np.flatnonzero(~np.isfinite(hi) | (hi < 0))
         if bad.size:
-            _refuse(int(bad[0]), hi[bad[0]])
+            _refuse(int(bad[0]), float(hi[bad[0]]))
         return Times(hi, np.zeros_like(hi), ())
     values = list(np.atleast_1d(np.asarray(times, dtype=object)).ravel()) \
         if not isinstance(times, (str, bytes)) else [times]
@@ -155,6 +156,21 @@ def as_times(times: object) -> Times:
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
         raise ValueError(f"times[{i}] = {values[i]!r} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
+
+
+def _plain_numbers(times: object) -> np.ndarray | None:
+    """``times`` as a numeric array when it holds only Python or numpy ints and floats."""
+    if isinstance(times, (str, bytes)):
+        return None
+    try:
+        array = np.asarray(times)
+    except (ValueError, TypeError):
+        return None
+    if array.dtype.kind not in "fiu":
+        return None
+    if array.dtype.kind in "iu" and array.size and np.max(np.abs(array)) >= 2**53:
+        return None  # integers beyond 2^53: keep them exact
+    return array
 
 
 def _negative(value: object) -> bool:
