@@ -130,10 +130,6 @@ class SceneFacts:
     def modal_ok(self) -> bool:
         return self.first_order and not self.forced and not self.symbolic
 
-    @property
-    def exact_ok(self) -> bool:
-        return True
-
 
 @dataclass(frozen=True)
 class Decision:

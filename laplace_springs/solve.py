@@ -107,7 +107,8 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
                             "auto: the modal route cannot hold this scene in float64")
         return (_certified(scene, fallback, target) if fallback.route == "certified"
                 else ExactSolution(exact_motion(scene), reason=fallback.reason, target=target))
-    solution = ModalSolution(scene, motion, reason=decision.reason, target=target)
+    warnings = "".join(f"; warning: {w}" for w in motion.modes.warnings)
+    solution = ModalSolution(scene, motion, reason=decision.reason + warnings, target=target)
     if method == "auto":
         better = after_modal_probe(facts, _probe(solution), target)
         if better is not None:
