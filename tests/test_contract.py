@@ -259,7 +259,7 @@ def test_auto_picks_the_fastest_route_and_keeps_the_exact_form_at_hand():
     assert small.x == exact.x and small.g_basis == exact.g_basis  # built when asked
     forced = ls.solve(ls.load_scene("vertical-pair").with_forcing(["cos(t)", 0]))
     assert forced.method == "exact"
-    symbolic = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0]))
+    symbolic = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0], parameters=["k"]))
     assert symbolic.method == "exact"
 
 

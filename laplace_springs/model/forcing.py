@@ -17,7 +17,7 @@ of each delay are summed and brought back to a real rational function.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from math import comb, factorial
@@ -48,7 +48,7 @@ _WAVES = (sp.exp, sp.cos, sp.sin, sp.cosh, sp.sinh)
 # Parsing and constructors
 # ----------------------------------------------------------------------------
 
-def parse_forcing(value: Any, entry: str) -> sp.Expr:
+def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | None = None) -> sp.Expr:
     """One forcing entry as an exact SymPy expression in :data:`laplace_springs.t`.
 
     Parameters
@@ -58,6 +58,8 @@ def parse_forcing(value: Any, entry: str) -> sp.Expr:
         (a constant force), or a SymPy expression; a symbol named ``t`` in it is time.
     entry : str
         What the value is, for error messages, e.g. ``"forcing[0]"``.
+    parameters : mapping of str to sympy.Symbol, optional
+        The declared parameters text may name besides ``t``.
 
     Returns
     -------
@@ -82,7 +84,8 @@ def parse_forcing(value: Any, entry: str) -> sp.Expr:
     laplace_springs.model.errors.SceneError: forcing[0]: 1/(t + 1) is not supported: 1/(t + 1) is not a power t**k, exp, cos, sin, cosh, sinh, Heaviside or DiracDelta of a linear argument
     """
     if isinstance(value, str):
-        expr = parse_expression(value.strip(), entry)
+        expr = parse_expression(value.strip(), entry, variables=parameters,
+                                expected="an expression in t")
     elif isinstance(value, sp.Basic):
         time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
         expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)
@@ -409,7 +412,8 @@ def _real_rational(atoms: list[_Atom], s: sp.Symbol) -> sp.Expr:
     return sp.factor_terms(sp.cancel(sp.together(total)))
 
 
-def forcing_vector(values: Sequence[Any] | None, n: int) -> sp.ImmutableMatrix | None:
+def forcing_vector(values: Sequence[Any] | None, n: int,
+                   parameters: Mapping[str, sp.Symbol] | None = None) -> sp.ImmutableMatrix | None:
     """Forcing entries (one per coordinate) as an exact column, or None when all zero."""
     if values is None:
         return None
@@ -417,7 +421,7 @@ def forcing_vector(values: Sequence[Any] | None, n: int) -> sp.ImmutableMatrix |
         raise SceneError(f"forcing must be a sequence with one entry per coordinate, got {values!r}")
     if len(values) != n:
         raise SceneError(f"forcing has {len(values)} entries, expected {n} (one per coordinate)")
-    column = [parse_forcing(0 if v is None else v, f"forcing[{i}]") for i, v in enumerate(values)]
+    column = [parse_forcing(0 if v is None else v, f"forcing[{i}]", parameters) for i, v in enumerate(values)]
     if all(entry == 0 for entry in column):
         return None
     return sp.ImmutableMatrix(column)

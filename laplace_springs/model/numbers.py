@@ -26,6 +26,7 @@ import fractions
 import math
 import numbers
 import re
+import reprlib
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -41,10 +42,15 @@ __all__ = [
     "ALLOWED_FUNCTIONS",
     "CONSTANTS",
     "NOT_FINITE_REAL",
+    "ASSUMPTIONS",
+    "MAX_DIGITS",
     "MAX_EXPRESSION_LENGTH",
+    "MAX_MAGNITUDE",
     "MAX_NESTING_DEPTH",
     "TIME",
+    "declare_parameters",
     "generic_values",
+    "shown",
     "parse_expression",
     "to_exact",
 ]
@@ -81,8 +87,27 @@ MAX_LITERAL_EXPONENT = 4_000
 #: Largest size, in bits, of an exact power of numbers (``2**10**9`` is refused).
 MAX_POWER_BITS = 100_000
 
+#: Most significant digits of a number: of a literal, and of the numerator and the
+#: denominator of an exact value (``1.000...0001`` with 2,000 digits is refused).
+MAX_DIGITS = 1_000
+#: Largest magnitude of a number; nonzero numbers must also exceed ``1/MAX_MAGNITUDE``.
+#: Float64 evaluation cannot honour more (``exp(10**6)`` or a 4,001-digit stiffness
+#: is refused before any work is done).
+MAX_MAGNITUDE = sympy.Integer(10) ** 300
+
+#: Assumptions a declared parameter may carry, by the word that declares them.
+#: A parameter declared without one (or with a description) is positive.
+ASSUMPTIONS: Mapping[str, Mapping[str, bool]] = MappingProxyType({
+    "positive": MappingProxyType({"positive": True}),
+    "nonnegative": MappingProxyType({"nonnegative": True}),
+    "real": MappingProxyType({"real": True}),
+    "negative": MappingProxyType({"negative": True}),
+})
+
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
-_DEFAULT_ASSUMPTIONS: Mapping[str, bool] = MappingProxyType({"real": True})
+_MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
+_REPR = reprlib.Repr()
+_REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist = 3, 80, 80, 8
 
 _NUMBER = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
@@ -92,6 +117,27 @@ _OPERATORS = ("**", "+", "-", "*", "/", "^", "(", ")", ",")
 def _shorten(text: str, limit: int = 80) -> str:
     """``repr`` of ``text``, cut to about ``limit`` characters."""
     return repr(text) if len(text) <= limit else repr(text[:limit]) + "..."
+
+
+def shown(value: object) -> str:
+    """A short ``repr`` of any value for error messages: long, deep or huge values are cut.
+
+    Examples
+    --------
+    >>> shown("x" * 200)
+    "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx'"
+    >>> nested = [1]
+    >>> for _ in range(10_000):
+    ...     nested = [nested]
+    >>> shown(nested)
+    '[[[[...]]]]'
+    """
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > _MAX_BITS:
+        return f"<an integer of {value.bit_length()} bits>"
+    try:
+        return _REPR.repr(value)
+    except (RecursionError, ValueError):  # ValueError: int too large to print
+        return f"<{type(value).__name__}>"
 
 
 @dataclass(frozen=True)
@@ -104,10 +150,11 @@ class _Token:
 class _ParseError(Exception):
     """Internal: a syntax error at a column; turned into a SceneError."""
 
-    def __init__(self, reason: str, column: int) -> None:
+    def __init__(self, reason: str, column: int, hint: str = "") -> None:
         super().__init__(reason)
         self.reason = reason
         self.column = column
+        self.hint = hint
 
 
 def _tokenize(text: str) -> list[_Token]:
@@ -141,6 +188,9 @@ def _tokenize(text: str) -> list[_Token]:
 def _literal_value(token: _Token) -> sympy.Rational:
     """The exact rational a number literal denotes."""
     mantissa, _, exponent = token.text.lower().partition("e")
+    digits = len(mantissa.replace(".", "").lstrip("0"))
+    if digits > MAX_DIGITS:
+        raise _ParseError(f"number with {digits} digits, more than {MAX_DIGITS}", token.column)
     if exponent and abs(int(exponent)) > MAX_LITERAL_EXPONENT:
         raise _ParseError(
             f"exponent {exponent} is beyond +-{MAX_LITERAL_EXPONENT}", token.column
@@ -169,14 +219,12 @@ class _Parser:
         tokens: list[_Token],
         functions: Mapping[str, Callable[..., sympy.Expr]],
         variables: Mapping[str, sympy.Expr],
-        assumptions: Mapping[str, bool],
     ) -> None:
         self.tokens = tokens
         self.index = 0
         self.depth = 0
         self.functions = functions
         self.variables = variables
-        self.assumptions = assumptions
 
     # -- token helpers -------------------------------------------------
     @property
@@ -275,7 +323,7 @@ class _Parser:
             return CONSTANTS[name]
         if name.lower() in NOT_FINITE_REAL:
             raise _ParseError(f"{name!r} is not a finite real number", token.column)
-        return sympy.Symbol(name, **self.assumptions)
+        raise _ParseError(f"unknown name {name!r}", token.column, _undeclared(name, self.variables))
 
     def call(self, token: _Token) -> sympy.Expr:
         if self._accept("(") is None:
@@ -298,7 +346,7 @@ def parse_expression(
     *,
     allowed_functions: Mapping[str, Callable[..., sympy.Expr]] = ALLOWED_FUNCTIONS,
     variables: Mapping[str, sympy.Expr] | None = None,
-    symbol_assumptions: Mapping[str, bool] | None = None,
+    expected: str = "a number",
 ) -> sympy.Expr:
     """Parse an arithmetic expression into an exact SymPy expression, safely.
 
@@ -311,9 +359,11 @@ def parse_expression(
     allowed_functions : mapping of str to callable, optional
         Functions that may be called, by name (default :data:`ALLOWED_FUNCTIONS`).
     variables : mapping of str to sympy.Expr, optional
-        Identifiers with fixed meanings. ``t`` means :data:`TIME` unless given here.
-    symbol_assumptions : mapping of str to bool, optional
-        Assumptions of the Symbols made for other identifiers (default ``real=True``).
+        The names the text may use besides ``t`` (:data:`TIME` unless given here) and
+        the constants ``pi`` and ``E``: the declared parameters (see
+        :func:`declare_parameters`). Any other name is refused.
+    expected : str, optional
+        What the text should be, for error messages (``"an expression in t"``).
 
     Returns
     -------
@@ -324,7 +374,8 @@ def parse_expression(
     ------
     SceneError
         On any text outside the grammar, naming ``entry``, the text and the column;
-        on a division by zero or a non-finite result.
+        on an undeclared name, a division by zero, a non-finite result, or a number
+        beyond the limits :data:`MAX_DIGITS` and :data:`MAX_MAGNITUDE`.
 
     Notes
     -----
@@ -338,8 +389,13 @@ def parse_expression(
     1/5
     >>> parse_expression("-2**2 + 3/6", "x0[0]")
     -7/2
-    >>> parse_expression("k1 + k2/2", "K[0,0]")
+    >>> k1, k2 = sympy.symbols("k1 k2", positive=True)
+    >>> parse_expression("k1 + k2/2", "K[0,0]", variables={"k1": k1, "k2": k2})
     k1 + k2/2
+    >>> parse_expression("k3", "K[0,0]", variables={"k1": k1, "k2": k2})
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: K[0,0]: expected a number, got 'k3': unknown name 'k3' at column 1 (declared parameters: k1, k2; to make 'k3' a parameter, declare it: parameters=['k3'], or a [parameters] table in a scene file)
     >>> parse_expression("__import__('os')", "M[0,0]")
     Traceback (most recent call last):
     ...
@@ -352,17 +408,60 @@ def parse_expression(
             f"{entry}: expression has {len(text)} characters, more than {MAX_EXPRESSION_LENGTH}"
         )
     names = {"t": TIME, **(variables or {})}
-    assumptions = _DEFAULT_ASSUMPTIONS if symbol_assumptions is None else symbol_assumptions
     try:
         tokens = _tokenize(text)
         if tokens[0].kind == "end":
             raise _ParseError("the text is empty", 1)
-        value = _Parser(tokens, allowed_functions, names, assumptions).parse()
+        value = _Parser(tokens, allowed_functions, names).parse()
     except _ParseError as exc:
+        hint = f" ({exc.hint})" if exc.hint else ""
         raise SceneError(
-            f"{entry}: expected a number, got {_shorten(text)}: {exc.reason} at column {exc.column}"
+            f"{entry}: expected {expected}, got {_shorten(text)}: {exc.reason} at column {exc.column}{hint}"
         ) from None
-    return _require_finite(value, entry, text)
+    return _require_bounded(_require_finite(value, entry, text), entry, _shorten(text))
+
+
+def _undeclared(name: str, variables: Mapping[str, sympy.Expr]) -> str:
+    """How to declare an undeclared ``name``, and which names are declared."""
+    declared = sorted(key for key in variables if key != "t")
+    listed = f"declared parameters: {', '.join(declared)}; " if declared else ""
+    return (f"{listed}to make {name!r} a parameter, declare it: parameters=[{name!r}], "
+            f"or a [parameters] table in a scene file")
+
+
+def _digits_ok(value: sympy.Rational) -> bool:
+    return max(abs(value.p).bit_length(), value.q.bit_length()) <= _MAX_BITS
+
+
+def _magnitude(value: sympy.Expr) -> sympy.Expr | None:
+    """|value| as a SymPy number, exactly for rationals, else to 15 digits; None if unknown."""
+    if value.is_Rational:
+        return abs(value)
+    if value.free_symbols:
+        value = value.xreplace(generic_values(value.free_symbols))
+    try:
+        number = sympy.Abs(value).evalf(15, maxn=400)
+    except (ValueError, TypeError, ArithmeticError, RecursionError):
+        return None
+    return number if number.is_Number else None
+
+
+def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.Expr:
+    """``value`` unless a number in it exceeds :data:`MAX_DIGITS` or :data:`MAX_MAGNITUDE`."""
+    for rational in value.atoms(sympy.Rational):
+        if not _digits_ok(rational):
+            raise SceneError(f"{entry}: {shown_value} has a number of more than {MAX_DIGITS} digits "
+                             f"(the limit MAX_DIGITS)")
+    if value.is_Rational and value != 0 and 1 / MAX_MAGNITUDE <= abs(value) <= MAX_MAGNITUDE:
+        return value
+    magnitude = _magnitude(value)
+    if magnitude is None or magnitude.is_zero:
+        return value
+    if not 1 / MAX_MAGNITUDE <= magnitude <= MAX_MAGNITUDE:
+        raise SceneError(f"{entry}: {shown_value} has magnitude {str(sympy.Float(magnitude, 3)).lower()}, beyond "
+                         f"the limit 1e-300 <= |value| <= 1e300 (MAX_MAGNITUDE) that float64 "
+                         f"evaluation can honour")
+    return value
 
 
 def _require_finite(value: sympy.Expr, entry: str, shown: object) -> sympy.Expr:
@@ -411,7 +510,7 @@ def to_exact(
     value: object,
     entry: str,
     *,
-    symbol_assumptions: Mapping[str, bool] | None = None,
+    parameters: Mapping[str, sympy.Expr] | None = None,
 ) -> sympy.Expr:
     """Convert a user-supplied number or expression to an exact SymPy expression.
 
@@ -423,8 +522,9 @@ def to_exact(
         SymPy objects pass through, with Floats made exact from their decimal string.
     entry : str
         What the value is, for error messages, e.g. ``"M[1,0]"`` or ``"mass 'm2'"``.
-    symbol_assumptions : mapping of str to bool, optional
-        Assumptions for Symbols made from identifiers in text (default ``real=True``).
+    parameters : mapping of str to sympy.Symbol, optional
+        The declared parameters text may name (see :func:`declare_parameters`);
+        SymPy objects may hold any Symbol.
 
     Returns
     -------
@@ -434,8 +534,10 @@ def to_exact(
     Raises
     ------
     SceneError
-        For booleans, NaN, infinities, complex numbers, text that does not parse,
-        and any other type; the message names ``entry`` and the value.
+        For booleans, NaN, infinities, complex numbers, text that does not parse or
+        names an undeclared parameter, numbers beyond :data:`MAX_DIGITS` or
+        :data:`MAX_MAGNITUDE`, and any other type; the message names ``entry`` and
+        the value.
 
     Examples
     --------
@@ -451,13 +553,21 @@ def to_exact(
     ...
     laplace_springs.model.errors.SceneError: M[1,0]: expected a number, got 'abc$': unexpected character '$' at column 4
     """
+    if isinstance(value, str):
+        return parse_expression(value.strip(), entry, variables=parameters)
+    return _require_bounded(_exact_of_object(value, entry), entry, shown(value))
+
+
+def _exact_of_object(value: object, entry: str) -> sympy.Expr:
+    """The exact value of a non-text entry (no limits checked yet)."""
     if isinstance(value, (bool, numpy.bool_)):
         raise SceneError(f"{entry}: expected a number, got {value!r}")
     if isinstance(value, sympy.Basic):
         return _sympy_to_exact(value, entry)
-    if isinstance(value, str):
-        return parse_expression(value.strip(), entry, symbol_assumptions=symbol_assumptions)
     if isinstance(value, numbers.Integral):
+        if int(value).bit_length() > _MAX_BITS:
+            raise SceneError(f"{entry}: an integer of {int(value).bit_length()} bits has more than "
+                             f"{MAX_DIGITS} digits (the limit MAX_DIGITS)")
         return sympy.Integer(int(value))
     if isinstance(value, fractions.Fraction):
         return _fraction_to_rational(value)
@@ -469,7 +579,7 @@ def to_exact(
         return _decimal_text_to_rational(repr(float(value)), entry, value)
     if isinstance(value, numbers.Real):  # numpy float32, mpmath mpf, ...: their shortest str
         return _decimal_text_to_rational(str(value), entry, value)
-    raise SceneError(f"{entry}: expected a number, got {value!r}")
+    raise SceneError(f"{entry}: expected a number, got {shown(value)}")
 
 
 def generic_values(symbols: Iterable[sympy.Symbol]) -> dict[sympy.Symbol, sympy.Rational]:
@@ -486,3 +596,119 @@ def generic_values(symbols: Iterable[sympy.Symbol]) -> dict[sympy.Symbol, sympy.
     """
     return {symbol: sympy.Rational(97 + 13 * i, 89 + 7 * i)
             for i, symbol in enumerate(sorted(symbols, key=lambda symbol: symbol.name))}
+
+
+def _parameter_name(name: object) -> str:
+    """``name`` if it can name a parameter, else a SceneError saying why not."""
+    if not isinstance(name, str) or _NAME.fullmatch(name) is None:
+        raise SceneError(f"parameter names must be identifiers (a letter, then letters, digits "
+                         f"or '_'), got {shown(name)}")
+    reserved = ("t", *ALLOWED_FUNCTIONS, *CONSTANTS)
+    if name in reserved or name.lower() in NOT_FINITE_REAL:
+        raise SceneError(f"{name!r} cannot be a parameter name: it means time, a function, a "
+                         f"constant or a number that is not finite and real")
+    return name
+
+
+def _parameter_symbol(name: str, declaration: object) -> sympy.Symbol:
+    """The Symbol of parameter ``name`` declared by an assumption word or a description."""
+    if isinstance(declaration, sympy.Symbol):
+        if declaration.name != name:
+            raise SceneError(f"parameter {name!r} is declared as the Symbol {declaration.name!r}")
+        return declaration
+    if declaration is None:
+        declaration = "positive"
+    if not isinstance(declaration, str):
+        raise SceneError(f"parameter {name!r}: expected an assumption ({', '.join(ASSUMPTIONS)}) or "
+                         f"a description, got {shown(declaration)}")
+    word = declaration.strip().lower()
+    return sympy.Symbol(name, **ASSUMPTIONS.get(word, ASSUMPTIONS["positive"]))
+
+
+def declare_parameters(parameters: object = None, *objects: object) -> dict[str, sympy.Symbol]:
+    """The declared parameters, name -> Symbol: the names text may use.
+
+    Parameters
+    ----------
+    parameters : sequence or mapping, optional
+        Names (``["k", "c"]``) or SymPy Symbols, positive by default; or a mapping
+        from name to an assumption word (one of :data:`ASSUMPTIONS`: ``"positive"``,
+        ``"nonnegative"``, ``"real"``, ``"negative"``) or to a free description
+        (then positive), as in the ``[parameters]`` table of a scene file.
+    *objects
+        Values (numbers, SymPy objects, nested lists, matrices) whose SymPy Symbols
+        are declared too: a Symbol object is a declaration. A Symbol named ``t`` is time.
+
+    Returns
+    -------
+    dict of str to sympy.Symbol
+
+    Raises
+    ------
+    SceneError
+        For a name that is not an identifier or is reserved (``t``, a function, a
+        constant, ``nan``, ``I`` ...), an unknown declaration, or two different
+        Symbols of the same name (say ``Symbol("k")`` and ``Symbol("k", positive=True)``).
+
+    Examples
+    --------
+    >>> declare_parameters(["k", "c"])
+    {'k': k, 'c': c}
+    >>> declare_parameters(["k"])["k"].is_positive
+    True
+    >>> declare_parameters({"a": "real", "k": "stiffness of the spring, N/m"})["a"].is_positive is None
+    True
+    >>> declare_parameters(["t"])
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: 't' cannot be a parameter name: it means time, a function, a constant or a number that is not finite and real
+    """
+    declared: dict[str, sympy.Symbol] = {}
+    for symbol in _declarations(parameters):
+        _add_parameter(declared, symbol)
+    for symbol in sorted(_symbols_in(objects), key=lambda symbol: symbol.name):
+        _add_parameter(declared, symbol)
+    return declared
+
+
+def _declarations(parameters: object) -> Iterator[sympy.Symbol]:
+    if parameters is None:
+        return
+    if isinstance(parameters, Mapping):
+        for name, declaration in parameters.items():
+            yield _parameter_symbol(_parameter_name(name), declaration)
+        return
+    if isinstance(parameters, (str, bytes)) or not isinstance(parameters, Iterable):
+        raise SceneError(f"parameters must be a list of names or a mapping name -> assumption, "
+                         f"got {shown(parameters)}")
+    for item in parameters:
+        if isinstance(item, sympy.Symbol):
+            yield _parameter_symbol(_parameter_name(item.name), item)
+        else:
+            yield _parameter_symbol(_parameter_name(item), None)
+
+
+def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> None:
+    known = declared.setdefault(symbol.name, symbol)
+    if known != symbol:
+        raise SceneError(f"two different Symbols are named {symbol.name!r} (assumptions "
+                         f"{known.assumptions0} and {symbol.assumptions0}); use one")
+
+
+def _symbols_in(objects: Iterable[object], depth: int = 0) -> set[sympy.Symbol]:
+    """The Symbols (but ``t``) of the SymPy objects in nested containers, depth-limited."""
+    found: set[sympy.Symbol] = set()
+    if depth > 8:
+        return found
+    for item in objects:
+        if isinstance(item, sympy.Basic):
+            found |= {symbol for symbol in item.free_symbols
+                      if isinstance(symbol, sympy.Symbol) and symbol.name != "t"}
+        elif isinstance(item, numpy.ndarray):
+            if item.dtype == object:
+                found |= _symbols_in(item.ravel().tolist(), depth + 1)
+        elif isinstance(item, Mapping):
+            found |= _symbols_in(item.values(), depth + 1)
+        elif isinstance(item, (list, tuple)):
+            found |= _symbols_in(item, depth + 1)
+    return found

@@ -20,7 +20,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import SceneError
 from .forcing import forcing_vector
-from .numbers import generic_values, to_exact
+from .numbers import declare_parameters, generic_values, shown, to_exact
 from .symbols import TIME
 
 __all__ = ["SUPPORTS", "Component", "Scene"]
@@ -29,8 +29,7 @@ __all__ = ["SUPPORTS", "Component", "Scene"]
 SUPPORTS = frozenset({"wall", "ceiling", "ground", "floor", "support", "air"})
 LAYOUTS = ("horizontal", "vertical")
 
-_PARAMETER = {"positive": True}
-_INITIAL = {"real": True}
+Parameters = Mapping[str, sympy.Symbol]
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
 
 
@@ -67,12 +66,12 @@ def _rows_of(value: Any, name: str) -> list[list[Any]]:
     if isinstance(value, sympy.MatrixBase) or hasattr(value, "tolist"):
         value = value.tolist()
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
-        raise SceneError(f"{name}: expected a matrix (a list of rows), got {value!r}")
+        raise SceneError(f"{name}: expected a matrix (a list of rows), got {shown(value)}")
     rows = [list(row) if isinstance(row, Sequence) and not isinstance(row, str) else row for row in value]
     for index, row in enumerate(rows):
         if not isinstance(row, list):
             raise SceneError(
-                f"{name}: expected a matrix (a list of rows), but row {index} is {row!r}"
+                f"{name}: expected a matrix (a list of rows), but row {index} is {shown(row)}"
             )
         if len(row) != len(rows[0]):
             raise SceneError(
@@ -81,14 +80,14 @@ def _rows_of(value: Any, name: str) -> list[list[Any]]:
     return rows
 
 
-def _exact_matrix(value: Any, name: str, assumptions: Mapping[str, bool]) -> sympy.ImmutableMatrix:
+def _exact_matrix(value: Any, name: str, parameters: Parameters) -> sympy.ImmutableMatrix:
     """An exact square matrix; each entry converted with the entry name ``name[i,j]``."""
     rows = _rows_of(value, name)
     if not rows or len(rows) != len(rows[0]):
         columns = len(rows[0]) if rows else 0
         raise SceneError(f"{name} must be a non-empty square matrix, got shape {len(rows)}x{columns}")
     entries = [
-        [to_exact(entry, f"{name}[{i},{j}]", symbol_assumptions=assumptions) for j, entry in enumerate(row)]
+        [to_exact(entry, f"{name}[{i},{j}]", parameters=parameters) for j, entry in enumerate(row)]
         for i, row in enumerate(rows)
     ]
     return sympy.ImmutableMatrix(entries)
@@ -99,7 +98,7 @@ def _flat_entries(value: Any, name: str) -> list[Any]:
     if isinstance(value, sympy.MatrixBase) or hasattr(value, "tolist"):
         value = value.tolist()
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
-        raise SceneError(f"{name}: expected a vector (a list of numbers), got {value!r}")
+        raise SceneError(f"{name}: expected a vector (a list of numbers), got {shown(value)}")
     nested = [isinstance(item, Sequence) and not isinstance(item, str) for item in value]
     if not any(nested):
         return list(value)
@@ -107,16 +106,16 @@ def _flat_entries(value: Any, name: str) -> list[Any]:
         return [item[0] for item in value]
     if len(value) == 1:  # row [[a, b]]
         return list(value[0])
-    raise SceneError(f"{name}: expected a vector (flat, one column or one row), got {value!r}")
+    raise SceneError(f"{name}: expected a vector (flat, one column or one row), got {shown(value)}")
 
 
-def _exact_vector(value: Any, name: str, size: int) -> sympy.ImmutableMatrix:
+def _exact_vector(value: Any, name: str, size: int, parameters: Parameters) -> sympy.ImmutableMatrix:
     """An exact ``size`` x 1 column; entries named ``name[i]``."""
     entries = _flat_entries(value, name)
     if len(entries) != size:
         raise SceneError(f"{name} has {len(entries)} entries, expected {size} (one per coordinate)")
     return sympy.ImmutableMatrix(
-        [to_exact(entry, f"{name}[{i}]", symbol_assumptions=_INITIAL) for i, entry in enumerate(entries)]
+        [to_exact(entry, f"{name}[{i}]", parameters=parameters) for i, entry in enumerate(entries)]
     )
 
 
@@ -269,25 +268,26 @@ def _pairs(items: Mapping[str, Any] | Iterable[Sequence[Any]], what: str,
     if isinstance(items, Mapping):
         return list(items.items())
     if isinstance(items, (str, bytes)) or not isinstance(items, Iterable):
-        raise SceneError(f"{what}: expected a table (label -> ...) or a list of rows, got {items!r}")
+        raise SceneError(f"{what}: expected a table (label -> ...) or a list of rows, got {shown(items)}")
     pairs = []
     for row in items:
         if isinstance(row, str) or not isinstance(row, Sequence) or len(row) != width + 1:
-            raise SceneError(f"{what}: expected rows of {width + 1} items (label, ...), got {row!r}")
+            raise SceneError(f"{what}: expected rows of {width + 1} items (label, ...), got {shown(row)}")
         pairs.append((row[0], row[1] if width == 1 else tuple(row[1:])))
     return pairs
 
 
-def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]]) -> dict[str, sympy.Expr]:
+def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]],
+                  parameters: Parameters) -> dict[str, sympy.Expr]:
     parsed: dict[str, sympy.Expr] = {}
     for name, value in _pairs(masses, "masses", 1):
         if not isinstance(name, str) or not name:
-            raise SceneError(f"mass names must be non-empty strings, got {name!r}")
+            raise SceneError(f"mass names must be non-empty strings, got {shown(name)}")
         if name.lower() in SUPPORTS:
             raise SceneError(f"mass name {name!r} is reserved for a fixed support")
         if name in parsed:
             raise SceneError(f"mass {name!r} is given twice")
-        mass = to_exact(value, f"mass {name!r}", symbol_assumptions=_PARAMETER)
+        mass = to_exact(value, f"mass {name!r}", parameters=parameters)
         if mass.is_nonnegative is False:
             raise SceneError(f"mass {name!r} must be positive, got {mass}; 0 is allowed for a massless node")
         parsed[name] = mass
@@ -305,20 +305,21 @@ def _node(node: Any, label: str, kind: str, masses: Mapping[str, sympy.Expr]) ->
             return node.lower()
     known = ", ".join(masses)
     supports = ", ".join(sorted(SUPPORTS))
-    raise SceneError(f"{kind} {label!r}: unknown node {node!r}; known masses: {known}; supports: {supports}")
+    raise SceneError(f"{kind} {label!r}: unknown node {shown(node)}; known masses: {known}; supports: {supports}")
 
 
-def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr]) -> Component:
+def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr],
+               parameters: Parameters) -> Component:
     if not isinstance(label, str) or not label:
-        raise SceneError(f"{kind} labels must be non-empty strings, got {label!r}")
+        raise SceneError(f"{kind} labels must be non-empty strings, got {shown(label)}")
     if isinstance(spec, str) or not isinstance(spec, Sequence) or len(spec) != 3:
-        raise SceneError(f"{kind} {label!r}: expected (node_a, node_b, value), got {spec!r}")
+        raise SceneError(f"{kind} {label!r}: expected (node_a, node_b, value), got {shown(spec)}")
     a, b = (_node(node, label, kind, masses) for node in spec[:2])
     if a == b:
         raise SceneError(f"{kind} {label!r} connects {a!r} to itself")
     if a in SUPPORTS and b in SUPPORTS:
         raise SceneError(f"{kind} {label!r} connects two supports ({a!r}, {b!r}); it would carry no motion")
-    value = to_exact(spec[2], f"{kind} {label!r}", symbol_assumptions=_PARAMETER)
+    value = to_exact(spec[2], f"{kind} {label!r}", parameters=parameters)
     if value.is_negative:
         quantity = "stiffness" if kind == "spring" else "damping"
         raise SceneError(f"{kind} {label!r}: {quantity} must be nonnegative, got {value}")
@@ -326,14 +327,14 @@ def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr
 
 
 def _parse_components(
-    springs: Any, dashpots: Any, masses: Mapping[str, sympy.Expr]
+    springs: Any, dashpots: Any, masses: Mapping[str, sympy.Expr], parameters: Parameters
 ) -> tuple[Component, ...]:
     components: list[Component] = []
     for kind, items in (("spring", springs), ("dashpot", dashpots)):
         for label, spec in _pairs(items, f"{kind}s", 3):
             if any(existing.label == label for existing in components):
                 raise SceneError(f"component label {label!r} is used twice")
-            components.append(_component(kind, label, spec, masses))
+            components.append(_component(kind, label, spec, masses, parameters))
     return tuple(components)
 
 
@@ -399,6 +400,10 @@ class Scene:
         External forces f(t), one exact expression in :data:`laplace_springs.t` per
         coordinate (n x 1), or ``None`` for a free (unforced) motion. See
         :mod:`laplace_springs.model.forcing` for what an input may contain.
+    parameters : tuple of sympy.Symbol
+        The declared parameters, sorted by name: those declared when the scene was
+        built (``parameters=[...]``, a ``[parameters]`` table) and every Symbol in its
+        data. See :meth:`subs` to give them values.
 
     Examples
     --------
@@ -432,6 +437,7 @@ class Scene:
     components: tuple[Component, ...] = ()
     mass_names: tuple[str, ...] = ()
     forcing: sympy.ImmutableMatrix | None = None
+    parameters: tuple[sympy.Symbol, ...] = ()
 
     def __post_init__(self) -> None:
         for field in ("M", "C", "K", "x0", "v0"):
@@ -460,6 +466,9 @@ class Scene:
         _check_time_free(self)
         if self.forcing is not None:
             _check_column("forcing", self.forcing.shape, n)
+        declared = declare_parameters(self.parameters, self.M, self.C, self.K, self.x0, self.v0,
+                                      self.forcing)
+        object.__setattr__(self, "parameters", tuple(declared[name] for name in sorted(declared)))
 
     def __repr__(self) -> str:
         title = f" {self.title!r}:" if self.title else ""
@@ -490,7 +499,7 @@ class Scene:
 
         Examples
         --------
-        >>> scene = Scene.from_matrices(M=[[1]], K=[["k"]], x0=["d"], v0=[0])
+        >>> scene = Scene.from_matrices(M=[[1]], K=[["k"]], x0=["d"], v0=[0], parameters=["k", "d"])
         >>> sorted(symbol.name for symbol in scene.free_symbols)
         ['d', 'k']
         """
@@ -545,10 +554,11 @@ class Scene:
         Matrix([[1/3]])
         """
         keys = self.mass_names or self.names
+        declared = declare_parameters(self.parameters, x0, v0)
         changes = {}
         for name, value in (("x0", x0), ("v0", v0)):
             if value is not None:
-                changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n)
+                changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n, declared)
         return dataclasses.replace(self, **changes)
 
     def with_forcing(self, forcing: Any) -> Scene:
@@ -569,7 +579,74 @@ class Scene:
         if isinstance(forcing, Mapping) and set(forcing) <= set(self.names):
             keys = self.names  # coordinate names x1..xn work for every scene
         values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
-        return dataclasses.replace(self, forcing=forcing_vector(values, self.n))
+        declared = declare_parameters(self.parameters, forcing)
+        return dataclasses.replace(self, forcing=forcing_vector(values, self.n, declared))
+
+    def subs(self, values: Mapping[Any, Any]) -> Scene:
+        """A new scene with some parameters given values.
+
+        Parameters
+        ----------
+        values : mapping
+            Parameter (a Symbol or its name) -> value: a number, text (which may name
+            the other parameters) or a SymPy expression.
+
+        Returns
+        -------
+        Scene
+            Checked like any scene: a value that makes a mass negative or the pencil
+            singular is a SceneError.
+
+        Examples
+        --------
+        >>> scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0],
+        ...                             parameters=["c"])
+        >>> scene.parameters
+        (c,)
+        >>> critical = scene.subs({"c": 2})
+        >>> critical.C, critical.parameters
+        (Matrix([[2]]), ())
+        >>> scene.subs({"k": 2})
+        Traceback (most recent call last):
+        ...
+        laplace_springs.model.errors.SceneError: subs: 'k' is not a parameter of this scene; its parameters are c
+        """
+        mapping = self._substitution(values)
+        remaining = [symbol for symbol in self.parameters if symbol not in mapping]
+
+        def apply(matrix: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
+            return sympy.ImmutableMatrix(matrix.xreplace(mapping))
+
+        components = tuple(dataclasses.replace(component, value=component.value.xreplace(mapping))
+                           for component in self.components)
+        for component in components:
+            if component.value.is_negative:
+                raise SceneError(f"subs: {component.kind} {component.label!r} becomes {component.value}")
+        return dataclasses.replace(
+            self, M=apply(self.M), C=apply(self.C), K=apply(self.K), x0=apply(self.x0),
+            v0=apply(self.v0), forcing=None if self.forcing is None else apply(self.forcing),
+            components=components, parameters=tuple(remaining))
+
+    def _substitution(self, values: Mapping[Any, Any]) -> dict[sympy.Symbol, sympy.Expr]:
+        """Symbol -> exact value, each checked against its parameter's assumptions."""
+        if not isinstance(values, Mapping):
+            raise SceneError(f"subs: expected a mapping parameter -> value, got {shown(values)}")
+        by_name = {symbol.name: symbol for symbol in self.parameters}
+        known = ", ".join(by_name) or "none"
+        mapping: dict[sympy.Symbol, sympy.Expr] = {}
+        for key, value in values.items():
+            name = key.name if isinstance(key, sympy.Symbol) else key
+            if not isinstance(name, str) or name not in by_name:
+                raise SceneError(f"subs: {shown(name)} is not a parameter of this scene; "
+                                 f"its parameters are {known}")
+            symbol = by_name[name]
+            exact = to_exact(value, f"parameter {name!r}", parameters=by_name)
+            for assumption in ("positive", "nonnegative", "real", "negative"):
+                if symbol.assumptions0.get(assumption) and exact.is_extended_real is not None \
+                        and getattr(exact, f"is_{assumption}") is False:
+                    raise SceneError(f"parameter {name!r} is {assumption}, got {exact}")
+            mapping[symbol] = exact
+        return mapping
 
     # -- builders -----------------------------------------------------------
     @classmethod
@@ -585,6 +662,7 @@ class Scene:
         title: str = "",
         layout: str = "horizontal",
         forcing: Any = None,
+        parameters: Any = None,
     ) -> Scene:
         """A scene from mass, damping and stiffness matrices.
 
@@ -607,6 +685,12 @@ class Scene:
             numbers (constant forces) or SymPy expressions. An entry whose Laplace
             transform is not rational times delays is a SceneError. See
             :mod:`laplace_springs.model.forcing`.
+        parameters : sequence or mapping, optional
+            The names text entries may use as symbolic parameters: ``["k", "c"]``
+            (positive), or ``{"a": "real", "k": "stiffness"}`` (an assumption word or a
+            description; see :func:`laplace_springs.model.numbers.declare_parameters`).
+            A SymPy Symbol in an entry is declared by being there. Any other name in
+            text is a SceneError.
 
         Returns
         -------
@@ -616,7 +700,8 @@ class Scene:
         ------
         SceneError
             For a non-square or empty ``M``, mismatched shapes, a wrong vector length,
-            non-finite or non-numeric entries, a negative mass, an indefinite symmetric
+            non-finite or non-numeric entries, an undeclared name, a number beyond the
+            limits of :mod:`laplace_springs.model.numbers`, a negative mass, an indefinite symmetric
             ``M``, or a singular pencil (det(λ²M + λC + K) identically zero). A zero mass
             is allowed: it is a massless node (see :attr:`Solution.initial_jump`).
 
@@ -628,25 +713,29 @@ class Scene:
         Matrix([
         [1/5,    0],
         [  0, 1/10]])
+        >>> Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0], parameters=["k"]).K
+        Matrix([[k]])
         >>> Scene.from_matrices(M=[[1, 0], [0, 0]], x0=[0, 0], v0=[0, 0])
         Traceback (most recent call last):
         ...
         laplace_springs.model.errors.SceneError: the pencil λ²M + λC + K is singular: ...; coordinate 1 has no mass and no spring or dashpot acting on it
         """
-        mass = _exact_matrix(M, "M", _PARAMETER)
+        declared = declare_parameters(parameters, M, C, K, x0, v0, forcing)
+        mass = _exact_matrix(M, "M", declared)
         n = mass.rows
-        damping = _optional_matrix(C, "C", mass, "M")
-        stiffness = _optional_matrix(K, "K", mass, "M")
+        damping = _optional_matrix(C, "C", mass, "M", declared)
+        stiffness = _optional_matrix(K, "K", mass, "M", declared)
         return cls(
             M=mass,
             C=damping,
             K=stiffness,
-            x0=_exact_vector(x0, "x0", n),
-            v0=_exact_vector(v0, "v0", n),
+            x0=_exact_vector(x0, "x0", n, declared),
+            v0=_exact_vector(v0, "v0", n, declared),
             names=_default_names(n) if names is None else tuple(names),
             title=title,
             layout=layout,
-            forcing=forcing_vector(forcing, n),
+            forcing=forcing_vector(forcing, n, declared),
+            parameters=tuple(declared.values()),
         )
 
     @classmethod
@@ -661,6 +750,7 @@ class Scene:
         title: str = "",
         layout: str = "horizontal",
         forcing: Any = None,
+        parameters: Any = None,
     ) -> Scene:
         """A scene from the seed's normalised form ``x'' + B x' + A x = f(t)``.
 
@@ -674,12 +764,13 @@ class Scene:
         >>> scene.M.tolist(), scene.K.tolist()
         ([[1, 0], [0, 1]], [[3, -1], [-2, 2]])
         """
-        stiffness = _exact_matrix(A, "A", _PARAMETER)
+        declared = declare_parameters(parameters, A, B, x0, v0, forcing)
+        stiffness = _exact_matrix(A, "A", declared)
         n = stiffness.rows
-        damping = _optional_matrix(B, "B", stiffness, "A")
+        damping = _optional_matrix(B, "B", stiffness, "A", declared)
         return cls.from_matrices(
             M=sympy.eye(n), C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title,
-            layout=layout, forcing=forcing,
+            layout=layout, forcing=forcing, parameters=declared,
         )
 
     @classmethod
@@ -694,6 +785,7 @@ class Scene:
         title: str = "",
         layout: str = "horizontal",
         forcing: Any = None,
+        parameters: Any = None,
     ) -> Scene:
         """A scene assembled from masses, springs and dashpots.
 
@@ -711,6 +803,8 @@ class Scene:
             Initial data; missing entries are 0.
         forcing : sequence, or mapping mass name -> force, optional
             External forces on the masses (see :meth:`from_matrices`); missing ones 0.
+        parameters : sequence or mapping, optional
+            Declared parameters, as in :meth:`from_matrices`.
         title : str, optional
         layout : {"horizontal", "vertical"}, optional
 
@@ -739,8 +833,9 @@ class Scene:
         >>> scene.C.tolist(), scene.K.tolist()
         ([[19/10, -7/5], [-7/5, 23/10]], [[779, -379], [-379, 479]])
         """
-        mass_values = _parse_masses(masses)
-        components = _parse_components(springs, dashpots, mass_values)
+        declared = declare_parameters(parameters, masses, springs, dashpots, x0, v0, forcing)
+        mass_values = _parse_masses(masses, declared)
+        components = _parse_components(springs, dashpots, mass_values, declared)
         mass_names = tuple(mass_values)
         index = {name: i for i, name in enumerate(mass_names)}
         n = len(mass_names)
@@ -748,24 +843,25 @@ class Scene:
             M=sympy.ImmutableMatrix(sympy.diag(*mass_values.values())),
             C=_assemble(components, "dashpot", index),
             K=_assemble(components, "spring", index),
-            x0=_exact_vector(_initial_by_mass(x0, "x0", mass_names), "x0", n),
-            v0=_exact_vector(_initial_by_mass(v0, "v0", mass_names), "v0", n),
+            x0=_exact_vector(_initial_by_mass(x0, "x0", mass_names), "x0", n, declared),
+            v0=_exact_vector(_initial_by_mass(v0, "v0", mass_names), "v0", n, declared),
             names=_default_names(n),
             title=title,
             layout=layout,
             components=components,
             mass_names=mass_names,
             forcing=None if forcing is None else forcing_vector(
-                _initial_by_mass(forcing, "forcing", mass_names), n),
+                _initial_by_mass(forcing, "forcing", mass_names), n, declared),
+            parameters=tuple(declared.values()),
         )
 
 
 def _optional_matrix(
-    value: Any, name: str, reference: sympy.ImmutableMatrix, reference_name: str
+    value: Any, name: str, reference: sympy.ImmutableMatrix, reference_name: str, parameters: Parameters
 ) -> sympy.ImmutableMatrix:
     """``value`` as an exact matrix of the shape of ``reference``; zeros when ``None``."""
     if value is None:
         return sympy.ImmutableMatrix(sympy.zeros(*reference.shape))
     rows = _rows_of(value, name)
     _check_shape(name, (len(rows), len(rows[0]) if rows else 0), reference.shape, reference_name)
-    return _exact_matrix(rows, name, _PARAMETER)
+    return _exact_matrix(rows, name, parameters)

@@ -17,13 +17,18 @@ A scene file describes a scene in one of three forms. Components::
     v0 = ["0", "1"]
     [forcing]                      # optional: mass name = force in t (or an array)
     m1 = "10*cos(20*t)"
+    [parameters]                   # optional: names the text may use as symbols
+    F0 = "amplitude of the force"  # a description (positive), or an assumption:
+    a = "real"                     # positive, nonnegative, real or negative
 
 matrices (``[matrices]`` with ``M`` and optionally ``C``, ``K``), or the seed's
 normalised form (``[normalized]`` with ``A`` and optionally ``B``); both take
 ``[initial]`` too and an optional top-level ``names`` array. Numbers may be TOML
 strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
 means ``1/5``); all go through :func:`laplace_springs.model.numbers.to_exact`, and no
-text is ever evaluated. Unknown keys are refused, to catch typos.
+text is ever evaluated. A name in text is a parameter only if the ``[parameters]``
+table declares it; an undeclared name is an error, so a typo is never a symbol.
+Unknown keys are refused, to catch typos.
 """
 
 from __future__ import annotations
@@ -41,7 +46,7 @@ from .scene import Scene
 
 __all__ = ["bundled_scenes", "load_scene", "scene_from_toml_text"]
 
-_COMMON_KEYS = ("title", "layout", "description", "initial", "forcing")
+_COMMON_KEYS = ("title", "layout", "description", "initial", "forcing", "parameters")
 _FORMS = {
     "masses": ("masses", "springs", "dashpots"),
     "matrices": ("matrices", "names"),
@@ -98,12 +103,23 @@ def _scene_from_data(data: Mapping[str, Any]) -> Scene:
     return scene.with_forcing(forcing)
 
 
+def _parameters(data: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``[parameters]`` table: name -> assumption word or description."""
+    table = _table(data, "parameters")
+    for name, declaration in table.items():
+        if not isinstance(declaration, str):
+            raise SceneError(f"[parameters] {name} must be a string (an assumption such as "
+                             f"\"positive\" or \"real\", or a description), got {declaration!r}")
+    return table
+
+
 def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     form = _form_of(data)
     initial = _table(data, "initial")
     _check_keys(initial, _INITIAL_KEYS, "in [initial]")
     title, layout = _text(data, "title", ""), _text(data, "layout", "horizontal")
     _text(data, "description", "")  # checked only: free text, not part of a Scene
+    parameters = _parameters(data)
     if form == "masses":
         return Scene.from_components(
             masses=_table(data, "masses"),
@@ -113,6 +129,7 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
             v0=initial.get("v0"),
             title=title,
             layout=layout,
+            parameters=parameters,
         )
     matrices = _table(data, form)
     _check_keys(matrices, _FORM_TABLES[form], f"in [{form}]")
@@ -121,9 +138,11 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"[{form}] needs {required}")
     zeros = [0] * len(matrices[required]) if isinstance(matrices[required], list) else None
     x0, v0, names = initial.get("x0", zeros), initial.get("v0", zeros), _names(data)
+    common: dict[str, Any] = {"x0": x0, "v0": v0, "names": names, "title": title, "layout": layout,
+                              "parameters": parameters}
     if form == "matrices":
-        return Scene.from_matrices(**matrices, x0=x0, v0=v0, names=names, title=title, layout=layout)
-    return Scene.from_normalized(**matrices, x0=x0, v0=v0, names=names, title=title, layout=layout)
+        return Scene.from_matrices(**matrices, **common)
+    return Scene.from_normalized(**matrices, **common)
 
 
 def _names(data: Mapping[str, Any]) -> list[str] | None:

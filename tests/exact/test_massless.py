@@ -348,7 +348,7 @@ def test_component_errors(arguments, message):
 def test_symbolic_massless_scene():
     scene = ls.Scene.from_components(
         masses={"n": 0, "m": "m"}, springs={"k": ("wall", "n", "k")}, dashpots={"c": ("n", "m", "c")},
-        x0=[0, 1], v0=[0, 0])
+        x0=[0, 1], v0=[0, 0], parameters=["m", "k", "c"])
     sol = ls.solve(scene)
     assert sol.resolvent.determinant.degree() == 3
     assert sol.verify().ok

@@ -29,7 +29,9 @@ def example3(values):
         masses={"m1": values["m1"], "m2": values["m2"]},
         springs={"k1": ("wall", "m1", values["k1"]), "k2": ("m1", "m2", values["k2"]),
                  "k3": ("m2", "wall", values["k3"])},
-        x0=[values["d1"], values["d2"]], v0=[values["v1"], values["v2"]])
+        x0=[values["d1"], values["d2"]], v0=[values["v1"], values["v2"]],
+        parameters={name: "real" if name[0] in "dv" else "positive"
+                    for name in values.values() if isinstance(name, str) and name.isidentifier()})
 
 
 def numbers_for(scene, values):
@@ -92,8 +94,12 @@ def test_named_quantities_are_constants_in_time_and_differentiate_by_definition(
     assert named("omega", 1, sp.Integer(3)) == 3  # numbers need no name
 
 
+SINGLE_MASS = {"m": "positive", "c": "positive", "k": "positive", "x0": "real", "v0": "real"}
+
+
 def test_damped_single_mass_is_the_textbook_formula():
-    scene = ls.Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["x0"], v0=["v0"])
+    scene = ls.Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["x0"], v0=["v0"],
+                                   parameters=SINGLE_MASS)
     sol = ls.solve(scene)
     names = {q.name: q for q in sol.definitions}
     gamma, omega = names["gamma_1"], names["omega_1"]
@@ -114,7 +120,8 @@ def test_damped_single_mass_is_the_textbook_formula():
     {"m": "1", "c": "5", "k": "4", "x0": "0.5", "v0": "1"},  # overdamped: cos(iσt) = cosh σt
 ])
 def test_damped_single_mass_numbers_match_the_reference(values):
-    symbolic = ls.Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["x0"], v0=["v0"])
+    symbolic = ls.Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["x0"], v0=["v0"],
+                                      parameters=SINGLE_MASS)
     numeric = ls.Scene.from_matrices(M=[[values["m"]]], C=[[values["c"]]], K=[[values["k"]]],
                                      x0=[values["x0"]], v0=[values["v0"]])
     x = ls.solve(symbolic).x[0].subs(numbers_for(symbolic, values))
@@ -126,7 +133,7 @@ def test_symmetric_pair_gets_distinct_names_in_one_scope():
     scene = ls.Scene.from_components(
         masses={"m1": "m", "m2": "m"},
         springs={"k1": ("wall", "m1", "k"), "k2": ("m1", "m2", "K"), "k3": ("m2", "wall", "k")},
-        x0=[1, 0], v0=[0, 0])
+        x0=[1, 0], v0=[0, 0], parameters=["m", "k", "K"])
     R = ls.resolvent(scene)
     terms = solution_terms(decompose(list(R.numerators), R.determinant))
     x = [terms_expr(list(row), ls.t) for row in terms]

@@ -19,6 +19,7 @@ from laplace_springs.model.numbers import (
     MAX_EXPRESSION_LENGTH,
     MAX_NESTING_DEPTH,
     TIME,
+    declare_parameters,
     parse_expression,
     to_exact,
 )
@@ -130,17 +131,44 @@ def test_arithmetic_and_precedence(text, expected):
     assert to_exact(text, "entry") == expected
 
 
-def test_identifiers_become_real_symbols_by_default():
-    k1, k2 = sympy.symbols("k1 k2", real=True)
-    assert to_exact("k1", "K[0,0]") == k1
-    assert to_exact("k1 + k2/2", "K[0,0]") == k1 + k2 / 2
-    assert to_exact("k_1a", "e") == sympy.Symbol("k_1a", real=True)
+def test_declared_names_become_their_symbols():
+    k1, k2 = sympy.symbols("k1 k2", positive=True)
+    declared = {"k1": k1, "k2": k2}
+    assert to_exact("k1", "K[0,0]", parameters=declared) == k1
+    assert to_exact("k1 + k2/2", "K[0,0]", parameters=declared) == k1 + k2 / 2
 
 
-def test_symbol_assumptions_are_used():
-    value = to_exact("m1", "M[0,0]", symbol_assumptions={"positive": True})
-    assert value == sympy.Symbol("m1", positive=True)
-    assert value.is_positive
+@pytest.mark.parametrize("text", ["abc", "k1 + x", "cos(x)", "k_1a"])
+def test_undeclared_names_are_refused_with_how_to_declare_them(text):
+    with pytest.raises(SceneError, match=r"unknown name '\w+' at column \d+ \(declared parameters: "
+                                         r"k1; to make '\w+' a parameter, declare it: parameters="):
+        to_exact(text, "K[0,0]", parameters={"k1": sympy.Symbol("k1", positive=True)})
+    with pytest.raises(SceneError, match=r"^K\[0,0\]: expected a number, got .*unknown name"):
+        to_exact(text, "K[0,0]")
+
+
+@pytest.mark.parametrize(
+    ("declaration", "positive", "real"),
+    [(None, True, True), ("positive", True, True), ("nonnegative", None, True),
+     ("real", None, True), ("negative", False, True), ("stiffness of k1, N/m", True, True)],
+)
+def test_declarations_give_assumptions(declaration, positive, real):
+    parameters = ["a"] if declaration is None else {"a": declaration}
+    symbol = declare_parameters(parameters)["a"]
+    assert symbol.name == "a" and symbol.is_positive is positive and symbol.is_real is real
+
+
+def test_symbol_objects_declare_themselves_and_clashing_ones_are_refused():
+    k = sympy.Symbol("k")
+    assert declare_parameters(None, [[k, 1]], {"m": [2 * k]}) == {"k": k}
+    with pytest.raises(SceneError, match="two different Symbols are named 'k'"):
+        declare_parameters(["k"], [[k]])  # "k" declared positive, Symbol("k") has no assumption
+
+
+@pytest.mark.parametrize("name", ["t", "sin", "pi", "nan", "I", "2k", "k-1", "", 3])
+def test_reserved_and_malformed_parameter_names_are_refused(name):
+    with pytest.raises(SceneError, match="parameter"):
+        declare_parameters([name])
 
 
 @pytest.mark.parametrize(
@@ -194,8 +222,8 @@ def test_parser_never_calls_eval_exec_or_sympify(monkeypatch):
     monkeypatch.setattr(builtins, "exec", forbidden)
     monkeypatch.setattr(sympy, "sympify", forbidden)
     monkeypatch.setattr(sympy, "parse_expr", forbidden)
-    value = parse_expression("-(k1 + 2.5e-1)**2 / sqrt(4) + sin(pi*t)", "e")
     k1 = sympy.Symbol("k1", real=True)
+    value = parse_expression("-(k1 + 2.5e-1)**2 / sqrt(4) + sin(pi*t)", "e", variables={"k1": k1})
     assert value == -((k1 + R(1, 4)) ** 2) / 2 + sympy.sin(sympy.pi * TIME)
 
 

@@ -62,6 +62,7 @@ def test_example1_symbolic_A_has_minus_k2_over_m2():
     scene = Scene.from_components(
         masses={"m1": "m1", "m2": "m2"},
         springs={"k1": ("ceiling", "m1", "k1"), "k2": ("m1", "m2", "k2")},
+        parameters=["m1", "m2", "k1", "k2"],
     )
     A, _ = scene.normalized()
     # seed (1.1) with its misprint corrected: the (2,1) entry is -k2/m2.
@@ -97,6 +98,7 @@ def test_example3_symbolic_couples_through_k2():
     scene = Scene.from_components(
         masses={"m1": "m1", "m2": "m2"},
         springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2"), "k3": ("m2", "wall", "k3")},
+        parameters=["m1", "m2", "k1", "k2", "k3"],
     )
     # m1 x1'' + (k1 + k2) x1 - k2 x2 = 0, m2 x2'' + (k2 + k3) x2 - k2 x1 = 0
     assert sympy.Matrix([[k1 + k2, -k2], [-k2, k2 + k3]]) == scene.K
@@ -112,6 +114,7 @@ def test_example4_matches_the_seeds_A_and_B():
             ("delta1", "ground", "m1", "delta"),
             ("delta2", "ground", "m2", "delta"),
         ],
+        parameters=["m1", "m2", "k1", "k3", "b", "delta"],
     )
     A, B = scene.normalized()
     assert sympy.Matrix([[k1 / m1, 0], [0, k3 / m2]]) == A
@@ -172,12 +175,15 @@ def test_vectors_flat_column_or_row(vector):
     assert scene.x0.shape == (2, 1)
 
 
-def test_symbol_assumptions_parameters_positive_initial_real():
-    scene = Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["d"], v0=["v"])
+def test_declared_parameters_are_positive_unless_declared_otherwise():
+    scene = Scene.from_matrices(M=[["m"]], C=[["c"]], K=[["k"]], x0=["d"], v0=["v"],
+                                parameters={"m": "mass", "c": "damping", "k": "positive",
+                                            "d": "real", "v": "real"})
     symbols = {symbol.name: symbol for symbol in scene.free_symbols}
     assert set(symbols) == {"m", "c", "k", "d", "v"}
     assert all(symbols[name].is_positive for name in "mck")
     assert symbols["d"].is_real and symbols["d"].is_positive is None
+    assert [symbol.name for symbol in scene.parameters] == ["c", "d", "k", "m", "v"]
 
 
 def test_from_normalized_keeps_a_non_symmetric_A():
@@ -205,7 +211,7 @@ def test_properties_and_repr():
     assert not scene.is_damped
     assert scene.free_symbols == frozenset()
     assert repr(scene) == "<Scene 'Example 1': 2 coordinates, undamped>"
-    damped = Scene.from_matrices(M=[[1]], C=[["c"]], x0=[1], v0=[0])
+    damped = Scene.from_matrices(M=[[1]], C=[["c"]], x0=[1], v0=[0], parameters=["c"])
     assert damped.is_damped
     assert repr(damped) == "<Scene 1 coordinate, damped>"
 
@@ -238,7 +244,8 @@ def test_custom_names_and_layout():
 
 def test_symbolic_full_mass_matrix_is_accepted_and_normalized():
     # (the numeric SPD full mass matrix is test_normalized_with_a_full_mass_matrix)
-    scene = Scene.from_matrices(M=[["m", "mu"], ["mu", "m"]], K=[["k", 0], [0, "k"]], x0=[0, 0], v0=[0, 0])
+    scene = Scene.from_matrices(M=[["m", "mu"], ["mu", "m"]], K=[["k", 0], [0, "k"]], x0=[0, 0], v0=[0, 0],
+                                parameters=["m", "mu", "k"])
     m, mu, k = sympy.symbols("m mu k", positive=True)
     assert sympy.Matrix([[m, mu], [mu, m]]) == scene.M
     A, B = scene.normalized()
@@ -263,12 +270,22 @@ def test_symbolic_full_mass_matrix_is_accepted_and_normalized():
         ({"M": [[1, 0], [0, 1]], "x0": [[1, 2], [3, 4]]}, r"x0: expected a vector"),
         ({"M": [[1, 0], [0, 0]]}, r"pencil .* is singular.*coordinate 1 has no mass and no spring or dashpot"),
         ({"M": [[1, 0], [0, -1]]}, r"mass M\[1,1\] must be positive, got -1"),
-        ({"M": [["m", 0], [0, "-m"]]}, r"mass M\[1,1\] must be positive, got -m"),
+        ({"M": [["m", 0], [0, "-m"]], "parameters": ["m"]}, r"mass M\[1,1\] must be positive, got -m"),
         ({"M": [[1, 2], [2, 1]]}, r"M must be symmetric positive semi-definite, but it is indefinite"),
         ({"M": [[1, 2], [2, 4]]}, r"pencil .* is singular.*motion along \[1, -1/2\]"),
         ({"M": [[-1, 1], [1, 2]]}, r"mass M\[0,0\] must be positive, got -1; 0 is allowed"),
         ({"M": [[1, 2], [3, 6]]}, r"pencil .* is singular: det\(λ²M \+ λC \+ K\) is identically zero"),
-        ({"M": [["m", "m"], ["m", "m"]]}, r"pencil .* is singular"),
+        ({"M": [["m", "m"], ["m", "m"]], "parameters": ["m"]}, r"pencil .* is singular"),
+        ({"M": [["m"]]}, r"M\[0,0\]: expected a number, got 'm': unknown name 'm' at column 1 \(to make 'm' a "
+                         r"parameter, declare it: parameters=\['m'\]"),
+        ({"M": [[1]], "K": [["nan"]]}, r"K\[0,0\]: expected a number, got 'nan': 'nan' is not a finite real"),
+        ({"M": [[1]], "K": [["I"]]}, r"K\[0,0\]: expected a number, got 'I': 'I' is not a finite real"),
+        ({"M": [[1]], "K": [["1e301"]]}, r"K\[0,0\]: '1e301' has magnitude 1.00e\+301, beyond the limit"),
+        ({"M": [[1]], "K": [["exp(10**6)"]]}, r"K\[0,0\]: 'exp\(10\*\*6\)' has magnitude .*beyond the limit"),
+        ({"M": [[1]], "K": [[10**400]]}, r"K\[0,0\]: .* has magnitude .*beyond the limit"),
+        ({"M": [[1]], "K": [[10**6000]]}, r"K\[0,0\]: an integer of 19932 bits has more than 1000 digits"),
+        ({"M": [[1]], "K": [["9" * 4001]]}, r"K\[0,0\]: expected a number, got '9999.*number with 4001 digits"),
+        ({"M": [[1]], "K": [[1e-310]]}, r"K\[0,0\]: 1e-310 has magnitude .*beyond the limit"),
         ({"M": [[1]], "K": [[float("nan")]]}, r"K\[0,0\]: expected a finite number, got nan"),
         ({"M": [[1]], "C": [[float("inf")]]}, r"C\[0,0\]: expected a finite number"),
         ({"M": [["abc$"]]}, r"M\[0,0\]: expected a number, got 'abc\$'"),
@@ -345,7 +362,7 @@ def test_initial_data_default_to_zero_and_zero_stiffness_is_allowed():
 
 
 def test_component_symbols_are_positive():
-    scene = Scene.from_components(masses={"m": "m"}, springs={"k": ("wall", "m", "k")})
+    scene = Scene.from_components(masses={"m": "m"}, springs={"k": ("wall", "m", "k")}, parameters=["m", "k"])
     assert all(symbol.is_positive for symbol in scene.free_symbols)
 
 
@@ -357,7 +374,7 @@ def test_component_symbols_are_positive():
         ({"springs": {"k": ("m1", "m1", 1)}}, r"spring 'k' connects 'm1' to itself"),
         ({"springs": {"k": ("wall", "Ground", 1)}}, r"spring 'k' connects two supports \('wall', 'ground'\)"),
         ({"springs": {"k": ("m1", "m2", -1)}}, r"spring 'k': stiffness must be nonnegative, got -1"),
-        ({"dashpots": {"c": ("m1", "m2", "-c")}}, r"dashpot 'c': damping must be nonnegative, got -c"),
+        ({"dashpots": {"c": ("m1", "m2", "-c")}, "parameters": ["c"]}, r"dashpot 'c': damping must be nonnegative, got -c"),
         ({"springs": {"k": ("m1", "m2", 1)}, "dashpots": {"k": ("m1", "m2", 1)}}, r"component label 'k' is used twice"),
         ({"springs": [("k", "m1", "m2", 1), ("k", "m1", "wall", 1)]}, r"component label 'k' is used twice"),
         ({"springs": {"k": ("m1", "m2")}}, r"spring 'k': expected \(node_a, node_b, value\)"),
@@ -365,7 +382,7 @@ def test_component_symbols_are_positive():
         ({"springs": {"k": ("m1", "m2", "1 +")}}, r"spring 'k': expected a number, got '1 \+'"),
         ({"masses": {"m1": 1, "m2": 0}}, r"pencil .* is singular.*coordinate 1 has no mass"),
         ({"masses": {"m1": 1, "m2": -1}}, r"mass 'm2' must be positive, got -1"),
-        ({"masses": {"m1": "-m"}}, r"mass 'm1' must be positive, got -m"),
+        ({"masses": {"m1": "-m"}, "parameters": ["m"]}, r"mass 'm1' must be positive, got -m"),
         ({"masses": {"Wall": 1}}, r"mass name 'Wall' is reserved for a fixed support"),
         ({"masses": [("m1", 1), ("m1", 2)]}, r"mass 'm1' is given twice"),
         ({"masses": {}}, r"a scene needs at least one mass"),

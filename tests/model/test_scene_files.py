@@ -153,6 +153,8 @@ c1 = ["air", "m1", 0.2]
 [initial]
 x0 = {m2 = "1/3"}
 v0 = ["0", 1.5]
+[parameters]
+k = "stiffness of the lower spring"
 """
 
 

@@ -188,7 +188,8 @@ def test_verify_catches_a_wrong_solution():
 
 
 def test_symbolic_scene_is_refused_by_name():
-    scene = Scene.from_matrices(M=[[1, 0], [0, "m"]], K=[[2, -1], [-1, "k"]], x0=[1, 0], v0=[0, 0])
+    scene = Scene.from_matrices(M=[[1, 0], [0, "m"]], K=[[2, -1], [-1, "k"]], x0=[1, 0], v0=[0, 0],
+                                parameters=["m", "k"])
     with pytest.raises(SceneError, match=r"M\[1,1\] = m.*K\[1,1\] = k"):
         solve(scene, method="modal")
 

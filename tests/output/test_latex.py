@@ -219,7 +219,9 @@ def example3(values):
         masses={"m1": values["m1"], "m2": values["m2"]},
         springs={"k1": ("wall", "m1", values["k1"]), "k2": ("m1", "m2", values["k2"]),
                  "k3": ("m2", "wall", values["k3"])},
-        x0=[values["d1"], values["d2"]], v0=[values["v1"], values["v2"]])
+        x0=[values["d1"], values["d2"]], v0=[values["v1"], values["v2"]],
+        parameters={name: "real" if name[0] in "dv" else "positive"
+                    for name in values.values() if name.isidentifier()})
 
 
 def test_example3_symbolic_latex_round_trip():
@@ -338,7 +340,7 @@ def test_two_factors_print_two_distinct_frequencies():
     scene = ls.Scene.from_components(
         masses={"m1": "m", "m2": "m"},
         springs={"k1": ("wall", "m1", "k"), "k2": ("m1", "m2", "K"), "k3": ("m2", "wall", "k")},
-        x0=[1, 0], v0=[0, 0])
+        x0=[1, 0], v0=[0, 0], parameters=["m", "k", "K"])
     eqs = equations(blocks(ls.solve(scene).latex())[0])
     defined = [lhs for lhs, _ in eqs if not lhs.endswith("(t)")]
     assert defined == [r"\omega_{1}", r"\omega_{2}"]
