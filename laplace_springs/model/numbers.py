@@ -84,8 +84,6 @@ MAX_EXPRESSION_LENGTH = 10_000
 MAX_NESTING_DEPTH = 100
 #: Largest decimal exponent of a number literal (``1e4000`` is refused).
 MAX_LITERAL_EXPONENT = 4_000
-#: Largest size, in bits, of an exact power of numbers (``2**10**9`` is refused).
-MAX_POWER_BITS = 100_000
 
 #: Most significant digits of a number: of a literal, and of the numerator and the
 #: denominator of an exact value (``1.000...0001`` with 2,000 digits is refused).
@@ -103,6 +101,11 @@ ASSUMPTIONS: Mapping[str, Mapping[str, bool]] = MappingProxyType({
     "real": MappingProxyType({"real": True}),
     "negative": MappingProxyType({"negative": True}),
 })
+
+#: Largest |argument| of exp, sinh and cosh, and of sin and cos, in text (checked at a
+#: generic value of the parameters): ``exp(exp(exp(10)))`` is refused as it is read.
+MAX_ARGUMENT = MappingProxyType({"exp": 10_000, "sinh": 10_000, "cosh": 10_000,
+                                 "sin": 10**300, "cos": 10**300})
 
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
 _MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
@@ -203,11 +206,9 @@ def _checked_power(base: sympy.Expr, exponent: sympy.Expr, column: int) -> sympy
     """``base**exponent``, refusing exact powers too large to build."""
     if base.is_Rational and exponent.is_Rational and abs(base) not in (0, 1):
         size = max(abs(base.p).bit_length(), base.q.bit_length())
-        if abs(exponent) * size > MAX_POWER_BITS:
-            raise _ParseError(
-                f"power {base}**{exponent} would have more than {MAX_POWER_BITS} bits",
-                column,
-            )
+        if abs(exponent) * size > _MAX_BITS + size:
+            raise _ParseError(f"power {base}**{exponent} would have more than {MAX_DIGITS} digits "
+                              f"(the limit MAX_DIGITS)", column)
     return sympy.Pow(base, exponent)
 
 
@@ -333,6 +334,12 @@ class _Parser:
             while self._accept(",") is not None:
                 arguments.append(self.expression())
             self._expect(")")
+        limit = MAX_ARGUMENT.get(token.text)
+        if limit is not None and len(arguments) == 1:
+            size = _magnitude(arguments[0])
+            if size is not None and size > limit:
+                raise _ParseError(f"the argument of {token.text} has magnitude {_order(size)}, "
+                                  f"beyond {_order(sympy.Integer(limit))}", token.column)
         try:
             return self.functions[token.text](*arguments)
         except (TypeError, ValueError) as exc:
@@ -446,6 +453,18 @@ def _magnitude(value: sympy.Expr) -> sympy.Expr | None:
     return number if number.is_Number else None
 
 
+def _order(number: sympy.Expr) -> str:
+    """A positive number in a few digits, cheaply even for 10**(10**4)."""
+    if number.is_Rational:
+        bits = abs(number.p).bit_length() - number.q.bit_length()
+    else:
+        _, mantissa, exponent, _ = sympy.Float(number, 3)._mpf_
+        bits = exponent + mantissa.bit_length()
+    if abs(bits) < 3000:
+        return str(sympy.Float(number, 3)).lower()
+    return f"about 1e{round(bits * math.log10(2)):+d}"
+
+
 def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.Expr:
     """``value`` unless a number in it exceeds :data:`MAX_DIGITS` or :data:`MAX_MAGNITUDE`."""
     for rational in value.atoms(sympy.Rational):
@@ -458,7 +477,7 @@ def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.E
     if magnitude is None or magnitude.is_zero:
         return value
     if not 1 / MAX_MAGNITUDE <= magnitude <= MAX_MAGNITUDE:
-        raise SceneError(f"{entry}: {shown_value} has magnitude {str(sympy.Float(magnitude, 3)).lower()}, beyond "
+        raise SceneError(f"{entry}: {shown_value} has magnitude {_order(magnitude)}, beyond "
                          f"the limit 1e-300 <= |value| <= 1e300 (MAX_MAGNITUDE) that float64 "
                          f"evaluation can honour")
     return value

@@ -6,6 +6,7 @@ import builtins
 import decimal
 import math
 import re
+import time
 from fractions import Fraction
 
 import mpmath
@@ -268,7 +269,7 @@ def test_injection_text_is_refused_and_runs_nothing(tmp_path):
         ("1/(2 - 2)", "division by zero"),
         ("0**-1", "finite"),
         ("sqrt(-1)", "real"),
-        ("2**10**10", "more than 100000 bits"),
+        ("2**10**10", "more than 1000 digits"),
         ("1e99999", "exponent 99999"),
         ("x @ y", "unexpected character '@'"),
         ("x; y", "unexpected character ';'"),
@@ -328,3 +329,54 @@ def test_non_finite_values_are_refused(value):
 def test_other_types_are_refused(value):
     with pytest.raises(SceneError, match="x0\\[1\\]: expected a"):
         to_exact(value, "x0[1]")
+
+
+@pytest.mark.parametrize(("text", "fragment"), [
+    ("exp(exp(exp(10)))", "the argument of exp has magnitude 2.20e+4, beyond 1.00e+4"),
+    ("sin(exp(exp(exp(5))))", "the argument of exp has magnitude 2.85e+64"),
+    ("sinh(exp(exp(9)))", "the argument of sinh has magnitude about 1e+3519"),
+    ("cos(10**400)", "the argument of cos has magnitude 1.00e+400, beyond 1.00e+300"),
+    ("sin(10**10**4)", "more than 1000 digits"),
+    ("exp(10**6)", "the argument of exp has magnitude 1.00e+6"),
+    ("(1+sqrt(2))**10000", "magnitude about 1e+3828, beyond the limit 1e-300 <= |value| <= 1e300"),
+    ("0.5**2000", "power 1/2**2000 would have more than 1000 digits"),
+    ("(1/2)**900 * (1/2)**900", "magnitude 1.40e-542, beyond the limit"),
+    ("1" + "0" * 1001, "number with 1002 digits, more than 1000"),
+    ("0." + "0" * 999 + "12", "has a number of more than 1000 digits"),  # its denominator 10**1001
+    ("sqrt(2)**100000", "more than 1000 digits"),
+])
+def test_limits_refuse_at_once_naming_the_limit(text, fragment):
+    started = time.perf_counter()
+    with pytest.raises(SceneError, match=re.escape(fragment)):
+        to_exact(text, "K[0,0]")
+    assert time.perf_counter() - started < 1.0  # a guard against a hang, not a speed target
+
+
+@pytest.mark.parametrize("value", [10**301, -(10**301), Fraction(1, 10**301), 1e-305, 1.7e308,
+                                   decimal.Decimal("1e-400"), sympy.Integer(10) ** 400,
+                                   sympy.exp(1000), sympy.Rational(1, 3) ** 700])
+def test_magnitude_limit_holds_for_every_input_type(value):
+    with pytest.raises(SceneError, match=r"K\[0,0\]: .* beyond the limit 1e-300 <= \|value\| <= 1e300"):
+        to_exact(value, "K[0,0]")
+
+
+@pytest.mark.parametrize("value", [10**300, Fraction(1, 10**300), 1e-300, "1e300", "exp(600)",
+                                   "sin(10**300)", "exp(-600)", sympy.exp(600), "1 + exp(-700)"])
+def test_values_inside_the_limits_are_kept_exactly(value):
+    exact = to_exact(value, "K[0,0]")
+    assert exact.is_finite and not isinstance(exact, sympy.Float)
+
+
+def test_huge_integers_are_refused_before_any_conversion():
+    with pytest.raises(SceneError, match=r"an integer of 19932 bits has more than 1000 digits"):
+        to_exact(10**6000, "K[0,0]")
+    with pytest.raises(SceneError, match=r"number with 6000 digits, more than 1000"):
+        to_exact("9" * 6000, "K[0,0]")
+
+
+def test_deeply_nested_values_are_shown_shortly():
+    nested: list = [1]
+    for _ in range(10_000):
+        nested = [nested]
+    with pytest.raises(SceneError, match=r"expected a number, got \[\[\[\[\.\.\.\]\]\]\]"):
+        to_exact(nested, "M[0,0]")
