@@ -9,12 +9,15 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
     laplace-springs solve wall-pair-dashpot --latex --standalone -o wall-pair-dashpot.tex
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
     laplace-springs solve three-dashpots --plot motion.png
+    laplace-springs solve my-scene.toml --param k=2 --param c=1/2 --at 0,1
     laplace-springs scenes
     laplace-springs bench --quick -o bench-out
 
-Errors (a bad scene file, an unknown scene, a bad option value) are reported as one
-line ``laplace-springs: error: ...`` on stderr with exit status 2, like argparse's own
-usage errors.
+Errors of the user (a bad scene file, an unknown scene, a bad option value, a scene
+beyond the documented limits, a file that cannot be written) are reported as one line
+``laplace-springs: error: ...`` on stderr with exit status 2, like argparse's own usage
+errors. An internal error (a bug) is one line ``laplace-springs: internal error: ...``
+with exit status 1; ``--debug`` shows its traceback. No text is ever evaluated as Python.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import argparse
 import math
 import os
 import sys
+import traceback
 from collections.abc import Sequence
 from typing import TextIO
 
@@ -34,6 +38,8 @@ from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import modes
 from .bench import harness as bm
+from .model.errors import InversionError, SceneError
+from .model.forcing import parse_forcing
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
 from .model.symbols import lam
@@ -49,6 +55,16 @@ PROG = "laplace-springs"
 TABLE_DIGITS = 12
 
 _EXIT_ERROR = 2
+_EXIT_INTERNAL = 1
+_EXIT_INTERRUPTED = 130
+
+
+class UsageError(ValueError):
+    """A bad option value or combination on the command line."""
+
+
+#: Errors that are the user's to fix (exit status 2); anything else is internal (1).
+_USER_ERRORS = (UsageError, SceneError, InversionError, ArithmeticError, OSError)
 
 
 def _build_parser() -> argparse.ArgumentParser:
@@ -58,6 +74,7 @@ def _build_parser() -> argparse.ArgumentParser:
         description="Exact Laplace-transform solutions of spring-mass-damper systems.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     solve = commands.add_parser("solve", help="solve a scene and print x(t)",
@@ -81,16 +98,58 @@ def _build_parser() -> argparse.ArgumentParser:
                        help="with --latex: write to FILE instead of standard output")
     solve.add_argument("--forcing", action="append", metavar="F",
                        help="external force: one per coordinate in order (repeat the option), "
-                            "or NAME=EXPR for one coordinate, e.g. --forcing 'x1=10*cos(20*t)'; "
+                            "or NAME=EXPR for one coordinate or mass, e.g. --forcing 'x1=10*cos(20*t)'; "
                             "replaces the scene file's forcing")
+    _add_common_options(solve)
     solve.set_defaults(run=_run_solve)
 
     scenes = commands.add_parser("scenes", help="list the bundled scenes",
                                  description="List the bundled scenes: name and title.")
     scenes.set_defaults(run=_run_scenes)
+    scenes.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     _add_bench_command(commands)
     _add_response_command(commands)
     return parser
+
+
+def _add_common_options(command: argparse.ArgumentParser) -> None:
+    """``--param`` and ``--debug``, shared by the commands that take a scene."""
+    command.add_argument("--param", action="append", metavar="NAME=VALUE",
+                         help="give a parameter of the scene a value, e.g. --param k=2 "
+                              "(repeat for more; the value may be 1/2, 0.3 or use other parameters)")
+    command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                         help="show the traceback of an internal error")
+
+
+def _scene_of(args: argparse.Namespace) -> Scene:
+    """The scene named on the command line, with the ``--param`` values substituted."""
+    scene = load_scene(args.scene)
+    if not args.param:
+        return scene
+    values: dict[str, str] = {}
+    for item in args.param:
+        name, equals, value = item.partition("=")
+        name = name.strip()
+        if not equals or not name or not value.strip():
+            raise UsageError(f"--param: expected NAME=VALUE such as k=2, got {item!r}")
+        if name in values:
+            raise UsageError(f"--param: {name!r} is given twice")
+        values[name] = value.strip()
+    try:
+        return scene.subs(values)
+    except SceneError as exc:
+        raise SceneError(f"--param: {str(exc).removeprefix('subs: ')}") from None
+
+
+def _require_numbers(scene: Scene, what: str) -> None:
+    """Refuse ``what`` (a table of values, a plot, ...) for a scene with free parameters."""
+    if not scene.free_symbols:
+        return
+    names = sorted(symbol.name for symbol in scene.free_symbols)
+    example = " ".join(f"--param {name}=..." for name in names)
+    raise UsageError(f"{what} needs numbers, but the scene has the parameter"
+                     f"{'s' if len(names) > 1 else ''} {', '.join(names)}; give "
+                     f"{'them values' if len(names) > 1 else 'it a value'} with {example}")
 
 
 def parse_times(text: str) -> list[float]:
@@ -107,9 +166,9 @@ def parse_times(text: str) -> list[float]:
 
     Raises
     ------
-    ValueError
-        For an empty item, text that is not a number, NaN, infinity or a negative time;
-        the message quotes the offending item.
+    UsageError
+        A ValueError, for an empty item, text that is not a number, NaN, infinity or a
+        negative time; the message quotes the offending item.
 
     Examples
     --------
@@ -118,7 +177,7 @@ def parse_times(text: str) -> list[float]:
     >>> parse_times("1,abc")
     Traceback (most recent call last):
     ...
-    ValueError: --at: 'abc' is not a number (give times like 0,0.5,1)
+    laplace_springs.cli.UsageError: --at: 'abc' is not a number (give times like 0,0.5,1)
     """
     return [_parse_time(item.strip()) for item in text.split(",")]
 
@@ -127,11 +186,11 @@ def _parse_time(item: str) -> float:
     try:
         value = float(item)
     except ValueError:
-        raise ValueError(f"--at: {item!r} is not a number (give times like 0,0.5,1)") from None
+        raise UsageError(f"--at: {item!r} is not a number (give times like 0,0.5,1)") from None
     if not math.isfinite(value):
-        raise ValueError(f"--at: time must be finite, got {item!r}")
+        raise UsageError(f"--at: time must be finite, got {item!r}")
     if value < 0:
-        raise ValueError(f"--at: time must be >= 0 (the solution holds for t >= 0), got {item!r}")
+        raise UsageError(f"--at: time must be >= 0 (the solution holds for t >= 0), got {item!r}")
     return value
 
 
@@ -139,9 +198,9 @@ def _check_dps(args: argparse.Namespace) -> None:
     if args.dps is None:
         return
     if args.at is None:
-        raise ValueError("--dps needs --at (it sets the precision of the table of values)")
+        raise UsageError("--dps needs --at (it sets the precision of the table of values)")
     if not 1 <= args.dps <= 10_000:
-        raise ValueError(f"--dps must be between 1 and 10000, got {args.dps}")
+        raise UsageError(f"--dps must be between 1 and 10000, got {args.dps}")
 
 
 def _root_names(exprs: Sequence[sp.Expr]) -> dict[sp.CRootOf, sp.Symbol]:
@@ -174,7 +233,19 @@ def _formula_lines(scene: Scene, solution: Solution, *, pretty: bool) -> list[st
             lines += [f"{name}(t) =", sp.pretty(short, use_unicode=True), ""]
         else:
             lines.append(f"{name}(t) = {sp.sstr(short)}")
-    return lines + _root_legend(names)
+    return lines + _definition_lines(solution) + _root_legend(names)
+
+
+def _definition_lines(solution: Solution) -> list[str]:
+    """``where gamma_1 = c/2 (decay rate)``: the named quantities of the formula."""
+    definitions = solution.definitions
+    if not definitions:
+        return []
+    lines = ["where"]
+    for quantity, definition in definitions.items():
+        meaning = f"   ({quantity.meaning})" if getattr(quantity, "meaning", "") else ""
+        lines.append(f"  {quantity} = {sp.sstr(definition)}{meaning}")
+    return lines
 
 
 def _format_value(value, digits: int) -> str:
@@ -205,9 +276,13 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     _check_dps(args)
     _check_latex_options(args)
     times = parse_times(args.at) if args.at is not None else None
-    scene = load_scene(args.scene)
+    scene = _scene_of(args)
     if args.forcing:
         scene = scene.with_forcing(_forcing_argument(scene, args.forcing))
+    if times is not None:
+        _require_numbers(scene, "a table of values (--at)")
+    if args.plot:
+        _require_numbers(scene, "a plot (--plot)")
     solution = solve(scene)
     if args.plot:
         _save_plot(solution, args.plot)
@@ -223,18 +298,49 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     print("\n".join(lines), file=out)
 
 
-def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[str] | dict[str, str]:
-    """``--forcing`` values: all positional (one per coordinate) or all NAME=EXPR."""
+def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr]:
+    """``--forcing`` values, one force per coordinate: all positional or all NAME=EXPR.
+
+    Each expression is parsed here, so that an error names the coordinate or mass as the
+    user wrote it.
+    """
     named = ["=" in item for item in items]
     if any(named) and not all(named):
-        raise ValueError("--forcing: give either one expression per coordinate or NAME=EXPR items, not both")
+        raise UsageError("--forcing: give either one expression per coordinate or NAME=EXPR items, not both")
+    parameters = {symbol.name: symbol for symbol in scene.parameters}
+    forces: list[sp.Expr] = [sp.Integer(0)] * scene.n
     if not all(named):
         if len(items) != scene.n:
-            raise ValueError(f"--forcing was given {len(items)} times; the scene has {scene.n} "
-                             f"coordinates ({', '.join(scene.names)}); use NAME=EXPR for fewer")
-        return list(items)
-    pairs = dict(item.split("=", 1) for item in items)
-    return {name.strip(): text for name, text in pairs.items()}
+            given = "once" if len(items) == 1 else f"{len(items)} times"
+            raise UsageError(f"--forcing was given {given}; the scene has {_count(scene.n, 'coordinate')} "
+                             f"({', '.join(scene.names)}): give one expression per coordinate, "
+                             f"or NAME=EXPR for some of them")
+        for index, (name, text) in enumerate(zip(scene.names, items)):
+            forces[index] = parse_forcing(text, f"--forcing #{index + 1} ({name})", parameters)
+        return forces
+    seen: set[int] = set()
+    for item in items:
+        name, _, text = item.partition("=")
+        index = _coordinate_index(scene, name.strip())
+        if index in seen:
+            raise UsageError(f"--forcing: coordinate {scene.names[index]} is given twice")
+        seen.add(index)
+        forces[index] = parse_forcing(text, f"--forcing {name.strip()}", parameters)
+    return forces
+
+
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'' if number == 1 else 's'}"
+
+
+def _coordinate_index(scene: Scene, name: str) -> int:
+    """The coordinate a ``--forcing NAME=`` refers to: a coordinate name or a mass name."""
+    for names in (scene.names, scene.mass_names):
+        if name in names:
+            return names.index(name)
+    masses = f" or masses {', '.join(scene.mass_names)}" if scene.mass_names else ""
+    raise UsageError(f"--forcing {name}: the scene has no coordinate or mass {name!r}; "
+                     f"name one of the coordinates {', '.join(scene.names)}{masses}")
 
 
 def _add_response_command(commands) -> None:
@@ -249,13 +355,15 @@ def _add_response_command(commands) -> None:
                           help="the coordinate (1-based) the unit harmonic force acts on (default 1)")
     response.add_argument("--at", metavar="W1,W2,...",
                           help="print the amplitude of each coordinate per unit force at these frequencies")
+    _add_common_options(response)
     response.set_defaults(run=_run_response)
 
 
 def _run_response(args: argparse.Namespace, out: TextIO) -> None:
-    scene = load_scene(args.scene)
+    scene = _scene_of(args)
     if not 1 <= args.force <= scene.n:
-        raise ValueError(f"--force must be between 1 and {scene.n}, got {args.force}")
+        raise UsageError(f"--force must be between 1 and {scene.n}, got {args.force}")
+    _require_numbers(scene, "the modes and the frequency response")
     lines = [scene.title] if scene.title else []
     lines.append(f"{'mode':>4}  {'omega_n':>12}  {'zeta':>10}  {'omega_d':>12}  shape")
     for k, mode in enumerate(modes(scene), start=1):
@@ -286,13 +394,23 @@ def _save_response_plot(scene: Scene, force: int, path: str) -> None:
 
         matplotlib.use("Agg")
     except ImportError as exc:
-        raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
-    plot_frequency_response(scene, force=force).savefig(path, dpi=100)
+        raise UsageError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
+    _save_figure(plot_frequency_response(scene, force=force), path)
+
+
+def _save_figure(figure, path: str) -> None:
+    """``figure.savefig(path)``, with a one-line error for a bad path or format."""
+    try:
+        figure.savefig(path, dpi=100)
+    except OSError as exc:
+        raise OSError(f"--plot: cannot write {path!r}: {exc.strerror or exc}") from None
+    except ValueError as exc:  # matplotlib: unknown file format
+        raise UsageError(f"--plot: cannot write {path!r}: {exc}") from None
 
 
 def _check_latex_options(args: argparse.Namespace) -> None:
     if (args.standalone or args.output) and not args.latex:
-        raise ValueError("--standalone and -o/--output go with --latex")
+        raise UsageError("--standalone and -o/--output go with --latex")
 
 
 def _write_latex(solution: Solution, args: argparse.Namespace, out: TextIO) -> None:
@@ -301,8 +419,11 @@ def _write_latex(solution: Solution, args: argparse.Namespace, out: TextIO) -> N
     if not args.output:
         print(text, file=out)
         return
-    with open(args.output, "w", encoding="utf-8") as handle:
-        handle.write(text if text.endswith("\n") else text + "\n")
+    try:
+        with open(args.output, "w", encoding="utf-8") as handle:
+            handle.write(text if text.endswith("\n") else text + "\n")
+    except OSError as exc:
+        raise OSError(f"-o: cannot write {args.output!r}: {exc.strerror or exc}") from None
     print(f"wrote {args.output}", file=out)
 
 
@@ -311,8 +432,8 @@ def _save_plot(solution: Solution, path: str) -> None:
     try:
         figure = overview_figure(solution)
     except ImportError as exc:
-        raise ValueError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
-    figure.savefig(path, dpi=100)
+        raise UsageError(f"--plot needs matplotlib ({exc}); pip install 'laplace_springs[plots]'") from None
+    _save_figure(figure, path)
 
 
 def _add_bench_command(commands) -> None:
@@ -338,10 +459,11 @@ def _add_bench_command(commands) -> None:
     bench.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     bench.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     bench.add_argument("--list", action="store_true", help="list scenes and methods, run nothing")
+    bench.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
 
     def run(args: argparse.Namespace, out: TextIO) -> None:
         if args.time_limit <= 0 or args.sympy_limit <= 0:
-            raise ValueError("--time-limit and --sympy-limit must be positive")
+            raise UsageError("--time-limit and --sympy-limit must be positive")
         def split(text):
             return ([p.strip() for p in text.split(",") if p.strip()] if text else None)
         if args.list:
@@ -369,11 +491,20 @@ def _run_scenes(args: argparse.Namespace, out: TextIO) -> None:
         print(f"{name.ljust(width)}  {title}", file=out)
 
 
-def _report(message: str) -> int:
-    """Print one error line to stderr and return the error exit status."""
+def _report(message: str, *, kind: str = "error", status: int = _EXIT_ERROR) -> int:
+    """Print one error line to stderr and return the exit status."""
     one_line = " ".join(str(message).split())
-    print(f"{PROG}: error: {one_line}", file=sys.stderr)
-    return _EXIT_ERROR
+    print(f"{PROG}: {kind}: {one_line}", file=sys.stderr)
+    return status
+
+
+def _user_message(exc: BaseException) -> str:
+    if isinstance(exc, OSError) and exc.strerror:
+        where = f"{exc.filename!r}: " if exc.filename else ""
+        return f"{where}{exc.strerror}"
+    if isinstance(exc, RecursionError):
+        return "the input is nested too deeply"
+    return str(exc) or type(exc).__name__
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -387,22 +518,35 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0 on success, 2 for a usage error or a bad scene, option value or
-        file (reported as one line ``laplace-springs: error: ...`` on stderr).
+        Exit status: 0 on success; 2 for a usage error or a bad scene, option value or
+        file (one line ``laplace-springs: error: ...`` on stderr); 1 for an internal error
+        (one line ``laplace-springs: internal error: ...``; ``--debug`` adds the traceback);
+        130 when interrupted.
     """
     parser = _build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or an argparse usage error
         return exc.code if isinstance(exc.code, int) else _EXIT_ERROR
+    debug = getattr(args, "debug", False)
     try:
         args.run(args, sys.stdout)
         sys.stdout.flush()
     except BrokenPipeError:  # output piped into `head` and closed early: stop quietly
         _silence_stdout()
         return 1
-    except (ValueError, OSError) as exc:  # SceneError and InversionError are ValueErrors
-        return _report(str(exc) or type(exc).__name__)
+    except KeyboardInterrupt:
+        return _report("interrupted", kind="stopped", status=_EXIT_INTERRUPTED)
+    except _USER_ERRORS as exc:
+        if debug:
+            traceback.print_exc()
+        return _report(_user_message(exc))
+    except Exception as exc:  # a bug: one line, and the traceback on request
+        if debug:
+            traceback.print_exc()
+        hint = "" if debug else "; run with --debug for the traceback"
+        return _report(f"{type(exc).__name__}: {_user_message(exc)}{hint}",
+                       kind="internal error", status=_EXIT_INTERNAL)
     return 0
 
 

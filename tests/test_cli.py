@@ -259,6 +259,106 @@ def test_usage_errors_exit_2(capsys, args):
     assert "Traceback" not in err
 
 
+SYMBOLIC_FILE = """title = "mass on a spring"
+[parameters]
+k = "stiffness, N/m"
+c = "nonnegative"
+[masses]
+m1 = 1
+[springs]
+k1 = ["wall", "m1", "k"]
+[dashpots]
+c1 = ["wall", "m1", "c"]
+[initial]
+x0 = [1]
+"""
+
+
+@pytest.fixture
+def symbolic_file(tmp_path):
+    path = tmp_path / "symbolic.toml"
+    path.write_text(SYMBOLIC_FILE, encoding="utf-8")
+    return str(path)
+
+
+def test_a_typo_in_a_scene_file_is_an_error_not_a_symbol(capsys, tmp_path):
+    path = tmp_path / "typo.toml"
+    path.write_text('[masses]\nm1 = 1\n[springs]\nk1 = ["wall", "m1", "abc"]\n', encoding="utf-8")
+    assert_one_line_error(*run(capsys, "solve", str(path), "--at", "0,1"),
+                          "typo.toml: spring 'k1'", "unknown name 'abc'", "[parameters]")
+
+
+def test_symbolic_scene_prints_its_formula(capsys, symbolic_file):
+    code, out, err = run(capsys, "solve", symbolic_file)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[1].startswith("x1(t) = ") and "omega_1" in lines[1]
+    # every name in the formula is defined under "where" (c/2 is the textbook decay rate)
+    assert lines[2] == "where" and lines[3].startswith("  gamma_1 = c/2")
+    assert lines[4].startswith("  omega_1 = sqrt(k - gamma_1**2)")
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--at", "0,1"], "a table of values (--at) needs numbers, but the scene has the parameters c, k; "
+                      "give them values with --param c=... --param k=..."),
+    (["--param", "k=2", "--at", "1"], "the parameter c; give it a value with --param c=..."),
+    (["--plot", "x.png"], "a plot (--plot) needs numbers"),
+    (["--param", "q=2"], "--param: 'q' is not a parameter of this scene; its parameters are c, k"),
+    (["--param", "k"], "--param: expected NAME=VALUE such as k=2, got 'k'"),
+    (["--param", "k=1", "--param", "k=2"], "'k' is given twice"),
+    (["--param", "k=-1"], "parameter 'k' is positive, got -1"),
+    (["--param", "k=abc"], "parameter 'k': expected a number, got 'abc': unknown name 'abc'"),
+    (["--param", "k=2", "--param", "c=nan"], "'nan' is not a finite real number"),
+])
+def test_parameters_need_values_for_numbers(capsys, symbolic_file, args, fragment):
+    assert_one_line_error(*run(capsys, "solve", symbolic_file, *args), fragment)
+
+
+def test_param_values_give_the_textbook_oscillator(capsys, symbolic_file):
+    # x'' + c x' + k x = 0, x(0) = 1: with k = 4, c = 0 it is cos 2t
+    code, out, err = run(capsys, "solve", symbolic_file, "--param", "k=4", "--param", "c=0",
+                         "--at", "0.5,2")
+    assert code == 0, err
+    _, rows = table(out)
+    for time, x1 in rows:
+        assert x1 == pytest.approx(math.cos(2 * time), abs=1e-12)
+    # critical damping c = 2 sqrt(k) = 4: (1 + 2t) e^{-2t}
+    code, out, err = run(capsys, "solve", symbolic_file, "--param", "k=4", "--param", "c=4",
+                         "--at", "0.5")
+    assert code == 0, err
+    assert table(out)[1][0][1] == pytest.approx(2 * math.exp(-1), abs=1e-12)
+
+
+def test_response_needs_numbers_too(capsys, symbolic_file):
+    assert_one_line_error(*run(capsys, "response", symbolic_file), "needs numbers", "--param")
+    code, out, err = run(capsys, "response", symbolic_file, "--param", "k=4", "--param", "c=1")
+    assert code == 0, err
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--plot", "/nonexistent/dir/x.png"], "--plot: cannot write '/nonexistent/dir/x.png': No such file"),
+    (["--plot", "x.unknown-format"], "--plot: cannot write 'x.unknown-format'"),
+    (["--latex", "-o", "/nonexistent/dir/x.tex"], "-o: cannot write '/nonexistent/dir/x.tex'"),
+])
+def test_unwritable_output_is_one_line(capsys, tmp_path, monkeypatch, args, fragment):
+    monkeypatch.chdir(tmp_path)
+    assert_one_line_error(*run(capsys, "solve", "vertical-pair", *args), fragment)
+
+
+def test_an_internal_error_is_one_line_with_a_hint_and_debug_shows_the_traceback(capsys, monkeypatch):
+    def broken(*args, **kwargs):
+        raise KeyError("a bug")
+
+    monkeypatch.setattr("laplace_springs.cli.solve", broken)
+    code, out, err = run(capsys, "solve", "vertical-pair")
+    assert code == 1 and out == ""
+    assert err.splitlines() == ["laplace-springs: internal error: KeyError: 'a bug'; "
+                                "run with --debug for the traceback"]
+    for args in (["--debug", "solve", "vertical-pair"], ["solve", "vertical-pair", "--debug"]):
+        code, out, err = run(capsys, *args)
+        assert code == 1 and "Traceback (most recent call last)" in err and "KeyError" in err
+
+
 # ---------------------------------------------------------------------------- subprocess
 
 

@@ -37,10 +37,15 @@ def test_solve_forcing_by_name_and_formula(capsys):
 
 
 @pytest.mark.parametrize("args, fragment", [
-    (("--forcing", "cos(t)"), "the scene has 2 coordinates"),
+    (("--forcing", "cos(t)"), "--forcing was given once; the scene has 2 coordinates (x1, x2)"),
+    (("--forcing", "1", "--forcing", "2", "--forcing", "3"), "given 3 times; the scene has 2 coordinates"),
     (("--forcing", "x1=cos(t**2)"), "not linear in t"),
-    (("--forcing", "x9=1"), "unknown mass 'x9'"),
+    (("--forcing", "x9=1"), "no coordinate or mass 'x9'; name one of the coordinates x1, x2 or masses m1, m2"),
     (("--forcing", "1", "--forcing", "x2=1"), "not both"),
+    (("--forcing", "m1=1", "--forcing", "x1=2"), "coordinate x1 is given twice"),
+    (("--forcing", "m2=cos(x)"), "--forcing m2: expected an expression in t, got 'cos(x)': unknown name 'x'"),
+    (("--forcing", "cos(t", "--forcing", "0"), "--forcing #1 (x1): expected an expression in t, got 'cos(t'"),
+    (("--forcing", "x1=__import__('os')"), "--forcing x1: expected an expression in t"),
 ])
 def test_bad_forcing_is_one_line_error(capsys, args, fragment):
     code, out, err = run(capsys, "solve", "wall-pair", *args)
@@ -67,3 +72,10 @@ def test_response_prints_modes_and_amplitudes(capsys, tmp_path):
 def test_response_rejects_a_bad_force_index(capsys):
     code, out, err = run(capsys, "response", "wall-pair", "--force", "3")
     assert code == 2 and "--force must be between 1 and 2" in err
+
+
+def test_forcing_mixes_mass_and_coordinate_names(capsys):
+    # m1 is coordinate x1 of the wall pair: forcing x2 = 1 and m1 = 0 gives the static offset
+    code, out, err = run(capsys, "solve", "wall-pair", "--forcing", "m1=0", "--forcing", "x2=1")
+    assert code == 0, err
+    assert "x2(t) =" in out

@@ -103,6 +103,15 @@ def _matrix_like():
     return st.one_of(square, _VALUES)
 
 
+_DECLARED = st.one_of(
+    st.none(), _VALUES,
+    st.lists(st.sampled_from(["k", "c", "x0", "t", "nan", "I", "sin", "", "k k", "é", 3, None]), max_size=4),
+    st.dictionaries(st.sampled_from(["k", "c", "t", "m1"]),
+                    st.one_of(st.sampled_from(["positive", "real", "nonnegative", "negative", "a note"]),
+                              _ATOMS), max_size=3),
+)
+
+
 def _only_scene_errors(build) -> None:
     with contextlib.suppress(SceneError):
         build()
@@ -110,9 +119,11 @@ def _only_scene_errors(build) -> None:
 
 @settings(max_examples=100, **SETTINGS)
 @given(M=_matrix_like(), C=st.one_of(st.none(), _matrix_like()), K=st.one_of(st.none(), _matrix_like()),
-       x0=_VALUES, v0=_VALUES, names=st.one_of(st.none(), _VALUES), layout=st.one_of(st.just("horizontal"), _ATOMS))
-def test_from_matrices_raises_only_scene_error(M, C, K, x0, v0, names, layout):
-    _only_scene_errors(lambda: Scene.from_matrices(M=M, C=C, K=K, x0=x0, v0=v0, names=names, layout=layout))
+       x0=_VALUES, v0=_VALUES, names=st.one_of(st.none(), _VALUES), layout=st.one_of(st.just("horizontal"), _ATOMS),
+       parameters=_DECLARED)
+def test_from_matrices_raises_only_scene_error(M, C, K, x0, v0, names, layout, parameters):
+    _only_scene_errors(lambda: Scene.from_matrices(M=M, C=C, K=K, x0=x0, v0=v0, names=names, layout=layout,
+                                                   parameters=parameters))
 
 
 @settings(max_examples=60, **SETTINGS)
@@ -130,10 +141,10 @@ _COMPONENT = st.one_of(st.tuples(_NODES, _NODES, _ATOMS), _VALUES)
                                          max_size=3), _VALUES),
        springs=st.one_of(st.dictionaries(_TEXT, _COMPONENT, max_size=3), _VALUES),
        dashpots=st.one_of(st.dictionaries(_TEXT, _COMPONENT, max_size=3), _VALUES),
-       x0=st.one_of(st.none(), _VALUES), v0=st.one_of(st.none(), _VALUES))
-def test_from_components_raises_only_scene_error(masses, springs, dashpots, x0, v0):
+       x0=st.one_of(st.none(), _VALUES), v0=st.one_of(st.none(), _VALUES), parameters=_DECLARED)
+def test_from_components_raises_only_scene_error(masses, springs, dashpots, x0, v0, parameters):
     _only_scene_errors(lambda: Scene.from_components(masses=masses, springs=springs, dashpots=dashpots,
-                                                     x0=x0, v0=v0))
+                                                     x0=x0, v0=v0, parameters=parameters))
 
 
 _TOML_VALUE = st.one_of(
@@ -143,10 +154,11 @@ _TOML_VALUE = st.one_of(
     _TEXT.map(lambda s: '"' + s.replace("\\", "").replace('"', "") + '"'))
 _TOML_LINE = st.one_of(
     st.builds(lambda k, v: f"{k} = {v}", st.sampled_from(
-        ["title", "layout", "names", "m1", "m2", "k1", "c1", "x0", "v0", "M", "C", "K", "A", "B", "bogus"]),
+        ["title", "layout", "names", "m1", "m2", "k1", "c1", "x0", "v0", "M", "C", "K", "A", "B", "bogus",
+         "k", "c"]),
         _TOML_VALUE),
     st.sampled_from(["[masses]", "[springs]", "[dashpots]", "[initial]", "[matrices]", "[normalized]",
-                     "[masses.m1]", "[[masses]]", "junk", "= 1", "[unknown]"]),
+                     "[masses.m1]", "[[masses]]", "junk", "= 1", "[unknown]", "[parameters]"]),
 )
 
 
