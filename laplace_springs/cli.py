@@ -63,8 +63,20 @@ class UsageError(ValueError):
     """A bad option value or combination on the command line."""
 
 
-#: Errors that are the user's to fix (exit status 2); anything else is internal (1).
+#: Errors that are the user's to fix (exit status 2), and so is a ValueError raised by this
+#: package's own checks; anything else is internal (1).
 _USER_ERRORS = (UsageError, SceneError, InversionError, ArithmeticError, OSError)
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _is_user_error(exc: BaseException) -> bool:
+    """Whether ``exc`` reports bad input rather than a bug."""
+    if isinstance(exc, _USER_ERRORS):
+        return True
+    if not isinstance(exc, ValueError) or exc.__traceback__ is None:
+        return False
+    frames = traceback.extract_tb(exc.__traceback__)
+    return os.path.abspath(frames[-1].filename).startswith(_PACKAGE)  # raised by our own check
 
 
 def _build_parser() -> argparse.ArgumentParser:
@@ -537,13 +549,11 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     except KeyboardInterrupt:
         return _report("interrupted", kind="stopped", status=_EXIT_INTERRUPTED)
-    except _USER_ERRORS as exc:
+    except Exception as exc:
         if debug:
             traceback.print_exc()
-        return _report(_user_message(exc))
-    except Exception as exc:  # a bug: one line, and the traceback on request
-        if debug:
-            traceback.print_exc()
+        if _is_user_error(exc):
+            return _report(_user_message(exc))
         hint = "" if debug else "; run with --debug for the traceback"
         return _report(f"{type(exc).__name__}: {_user_message(exc)}{hint}",
                        kind="internal error", status=_EXIT_INTERNAL)

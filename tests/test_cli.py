@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import mpmath
+import numpy as np
 import pytest
 import sympy
 
@@ -357,6 +358,14 @@ def test_an_internal_error_is_one_line_with_a_hint_and_debug_shows_the_traceback
     for args in (["--debug", "solve", "vertical-pair"], ["solve", "vertical-pair", "--debug"]):
         code, out, err = run(capsys, *args)
         assert code == 1 and "Traceback (most recent call last)" in err and "KeyError" in err
+
+
+def test_a_value_error_from_a_library_is_internal_but_one_from_our_checks_is_the_users(capsys, monkeypatch):
+    monkeypatch.setattr("laplace_springs.cli.solve", lambda scene: np.zeros(2).reshape(3))
+    code, out, err = run(capsys, "solve", "vertical-pair")
+    assert code == 1 and err.startswith("laplace-springs: internal error: ValueError: cannot reshape")
+    code, out, err = run(capsys, "bench", "--methods", "no-such-method")
+    assert code == 2 and err.startswith("laplace-springs: error: no method matches 'no-such-method'")
 
 
 # ---------------------------------------------------------------------------- subprocess

@@ -26,6 +26,7 @@ from .named import definitions, expand_names
 from .partial_fractions import decompose
 from .real_terms import Term, derivative_terms, group_terms, naming_scope, solution_terms, terms_expr
 from .resolvent import Resolvent, resolvent
+from .screening import screen_scene
 
 __all__ = ["Piece", "ExactMotion", "exact_motion"]
 
@@ -168,8 +169,8 @@ class ExactMotion:
         """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
         D = self.g_denominator
         monomials = [sp.Poly(lam**k, lam, domain=D.domain) for k in self.g_indices]
-        return {k: terms_expr(list(row), TIME)
-                for k, row in zip(self.g_indices, solution_terms(decompose(monomials, D)))}
+        rows = solution_terms(decompose(monomials, D, closed_form=True))
+        return {k: terms_expr(list(row), TIME) for k, row in zip(self.g_indices, rows)}
 
     def g_form(self) -> sp.ImmutableMatrix:
         """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
@@ -220,7 +221,8 @@ class ExactMotion:
         Examples
         --------
         >>> from laplace_springs.model.scene import Scene
-        >>> motion = exact_motion(Scene.from_matrices(M=[["m"]], K=[["k"]], x0=[1], v0=[0]))
+        >>> motion = exact_motion(Scene.from_matrices(M=[["m"]], K=[["k"]], x0=[1], v0=[0],
+        ...                                             parameters=["m", "k"]))
         >>> motion.x[0], motion.definitions
         (cos(t*omega_1), {omega_1: sqrt(k)/sqrt(m)})
         """
@@ -241,10 +243,22 @@ def exact_motion(scene: Scene) -> ExactMotion:
     >>> from laplace_springs.model.scene import Scene
     >>> exact_motion(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0])).x[0]
     t*exp(-t) + exp(-t)
+
+    Raises
+    ------
+    InversionError
+        At once (before the resolvent is built, see
+        :func:`~laplace_springs.exact.screening.screen_scene`) or right after Δ(λ) is
+        factored, when Δ has an irreducible factor of degree ≥ 3 with symbolic
+        coefficients (an even quartic excepted) or one above
+        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE`, that the
+        solution needs; or when the scene has more than
+        :data:`~laplace_springs.exact.screening.MAX_EXACT_COORDINATES` coordinates.
     """
+    screen_scene(scene)
     R = resolvent(scene)
     if not scene.is_forced:
-        rows = solution_terms(decompose(list(R.numerators), R.determinant))
+        rows = solution_terms(decompose(list(R.numerators), R.determinant, closed_form=True))
         flags = tuple((False,) * len(row) for row in rows)
         return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),))
     return ExactMotion(scene, R, _forced_pieces(scene, R))
@@ -275,7 +289,7 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
         numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
     denominator = R.determinant * D
     rows, flags, impulses = [], [], []
-    for pf in decompose(numerators, denominator):
+    for pf in decompose(numerators, denominator, closed_form=True):
         pairs = [(term, _divides(group.factor, D))
                  for group in pf.groups for term in group_terms(group)]
         rows.append(tuple(term for term, _ in pairs))

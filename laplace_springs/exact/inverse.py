@@ -44,7 +44,7 @@ def inverse_laplace_terms(F: sp.Expr, s: sp.Symbol) -> InverseTransform:
     See :func:`inverse_laplace` for the forms; this returns the terms instead of one
     expression.
     """
-    decomposition = partial_fractions(F, s)
+    decomposition = partial_fractions(F, s, closed_form=True)
     terms = tuple(term for group in decomposition.groups for term in group_terms(group))
     to_sympy = decomposition.polynomial.domain.to_sympy
     impulses = tuple(to_sympy(c) for c in reversed(decomposition.polynomial.all_coeffs()))
@@ -82,8 +82,11 @@ def inverse_laplace(F: sp.Expr, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
     Raises
     ------
     InversionError
-        F is not rational in s, or has an irreducible factor of degree ≥ 3 with symbolic
-        coefficients (no closed-form roots).
+        At once, before any residue is computed: F is not rational in s, or has an
+        irreducible factor of degree ≥ 3 with symbolic coefficients (no closed-form
+        roots; even quartics s⁴ + p s² + r excepted), or one of degree above
+        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` (24):
+        the message names the degree.
 
     Notes
     -----

@@ -13,6 +13,21 @@ of N and D simply give zero residues (the pole cancels).
 
 This is the algebraic core behind :func:`laplace_springs.inverse_laplace`; the real
 damped sine/cosine form is built from it in :mod:`laplace_springs.exact.real_terms`.
+
+**What has real terms, and the limit.** Every factor of degree ≤ 2 has closed-form
+roots, whatever its coefficients, and so has an even quartic s⁴ + p s² + r (a quadratic
+in s²). A factor of degree ≥ 3 with rational coefficients has exact algebraic roots
+(``CRootOf``), but its terms grow fast with the degree d: the root isolation and the
+real and imaginary parts of the residues cost about d⁴ (measured for s^d + s + 1, one
+transform: d = 12 0.18 s, 16 0.37 s, 24 1.2 s, 30 2.9 s, 40 9.9 s), and a scene pays it
+once per coordinate (a damped 8-mass chain with an irreducible Δ of degree 16: 4 s).
+Beyond :data:`MAX_EXACT_FACTOR_DEGREE` the inversion is refused at once, as is a factor
+of degree ≥ 3 with symbolic (or irrational) coefficients other than an even quartic: its
+roots have no closed form. :func:`closed_form_obstacle` says which, before any residue
+is computed (``closed_form=True``). The partial fractions themselves stay cheap (degree
+200: 0.01 s) for rational coefficients, so :func:`partial_fractions` refuses nothing
+by default. A factor that cancels from every numerator (its principal parts all vanish)
+is never refused.
 """
 
 from __future__ import annotations
@@ -24,7 +39,17 @@ import sympy as sp
 
 from ..model.errors import InversionError
 
-__all__ = ["PoleGroup", "PartialFractions", "partial_fractions", "decompose"]
+__all__ = ["PoleGroup", "PartialFractions", "partial_fractions", "decompose",
+           "MAX_EXACT_FACTOR_DEGREE", "closed_form_obstacle", "check_closed_form",
+           "is_symbolic_biquadratic"]
+
+#: Largest degree of an irreducible factor with rational coefficients whose exact real
+#: terms are built (``inverse_laplace``, ``solve(scene, method="exact")``). The cost grows
+#: like the fourth power of the degree (see the module notes): 24 keeps one transform
+#: near a second and a forced 12-coordinate scene (Δ of degree 24, which only the exact
+#: route takes) near 15 s; a degree-200 factor would take hours. The numeric
+#: routes evaluate any degree: ``solve(scene, method="modal")`` or ``"certified"``.
+MAX_EXACT_FACTOR_DEGREE = 24
 
 
 @dataclass(frozen=True)
@@ -93,6 +118,91 @@ class PartialFractions:
         for group in self.groups:
             total += group.as_expr()
         return sp.cancel(sp.together(total))
+
+
+def is_symbolic_biquadratic(q: sp.Poly) -> bool:
+    """s⁴ + p s² + r with coefficients that are not all rational (roots in radicals)."""
+    coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
+    return q.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0 and not all(
+        c.is_Rational for c in coeffs)
+
+
+def closed_form_obstacle(q: sp.Poly) -> str | None:
+    """Why the irreducible factor ``q`` has no exact real terms, or None if it has.
+
+    Cheap: it looks at the degree and the coefficients only.
+
+    Examples
+    --------
+    >>> s, a = sp.symbols("s a")
+    >>> closed_form_obstacle(sp.Poly(s**4 + a*s**2 + 1, s)) is None   # a quadratic in s²
+    True
+    >>> print(closed_form_obstacle(sp.Poly(s**4 + a*s + 1, s)))   # doctest: +ELLIPSIS
+    irreducible factor of degree 4 has symbolic coefficients (a*s + s**4 + 1): ...
+    >>> print(closed_form_obstacle(sp.Poly(s**200 + 2*s + 2, s)))   # doctest: +ELLIPSIS
+    irreducible factor of degree 200 > MAX_EXACT_FACTOR_DEGREE = 24: ...
+    """
+    degree = q.degree()
+    if degree <= 2:
+        return None
+    coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
+    if all(c.is_Rational for c in coeffs):
+        if degree <= MAX_EXACT_FACTOR_DEGREE:
+            return None
+        return (f"irreducible factor of degree {degree} > MAX_EXACT_FACTOR_DEGREE = "
+                f"{MAX_EXACT_FACTOR_DEGREE}: exact terms cost about the fourth power of the "
+                f"degree (degree 16: 0.4 s, 24: 1.2 s, 40: 10 s, {degree}: far longer); the numeric routes "
+                "evaluate any degree: ls.solve(scene, method='modal') or method='certified'")
+    if is_symbolic_biquadratic(q):
+        return None
+    symbols = sorted(set().union(*(c.free_symbols for c in coeffs)), key=str)
+    if symbols:
+        names = ", ".join(map(str, symbols))
+        return (f"irreducible factor of degree {degree} has symbolic coefficients "
+                f"({q.as_expr()}): its roots have no closed form (in the parameters only factors "
+                "of degree <= 2 and even quartics s**4 + p*s**2 + r are solved); substitute "
+                f"numbers for {names} (the numeric routes, method='modal' or 'certified', "
+                "need numbers too)")
+    return (f"irreducible factor of degree {degree} has irrational coefficients "
+            f"({q.as_expr()}): its roots are not computed exactly; use rational numbers "
+            "(decimals are exact) or the numeric route (method='modal')")
+
+
+def _divides(q: sp.Poly, N: sp.Poly) -> bool:
+    """Whether q divides N, by pseudo-division over the coefficient ring (no gcds)."""
+    if N.is_zero:
+        return True
+    if N.degree() < q.degree():
+        return False
+    _, q = q.clear_denoms(convert=True)
+    _, N = N.clear_denoms(convert=True)
+    domain = q.domain.unify(N.domain)
+    return N.set_domain(domain).prem(q.set_domain(domain)).is_zero
+
+
+def check_closed_form(factors: list[tuple[sp.Poly, int]], numerators: list[sp.Poly]) -> set[int]:
+    """Raise InversionError if a factor without exact real terms stays in some fraction.
+
+    ``factors`` are the irreducible factors q with their multiplicities m in the shared
+    denominator; q is refused (:func:`closed_form_obstacle`) unless q^m divides every
+    numerator, so that its principal parts all vanish. Cheap: degrees, coefficients and,
+    only for such a factor, pseudo-remainders.
+
+    Returns
+    -------
+    set of int
+        The indices of the factors without exact real terms that cancel from every
+        numerator: their principal parts are zero and need not be computed.
+    """
+    cancelled = set()
+    for index, (q, m) in enumerate(factors):
+        obstacle = closed_form_obstacle(q)
+        if obstacle is None:
+            continue
+        if not all(_divides(q**m, N) for N in numerators):
+            raise InversionError(obstacle)
+        cancelled.add(index)
+    return cancelled
 
 
 def _field_polys(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
@@ -167,7 +277,8 @@ def _cofactor_inverse(q: sp.Poly, m: int, rest: sp.Poly) -> list[sp.Poly]:
     return _series_inv(series, q)
 
 
-def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFractions]:
+def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
+              closed_form: bool = False) -> list[PartialFractions]:
     """Partial fractions of several numerators over one shared denominator.
 
     The denominator is factored once and the inverse series of each factor's cofactor is
@@ -179,6 +290,11 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFr
         Polynomials over the same field and generator as ``denominator``.
     denominator : sympy.Poly
         Nonzero polynomial.
+    closed_form : bool
+        Refuse at once, right after factoring and before any residue is computed, when a
+        factor has no exact real terms (:func:`closed_form_obstacle`): what the
+        inversions ask for. The residues of a symbolic factor of degree ≥ 3 can take
+        minutes (gcds over the parameters' field).
 
     Returns
     -------
@@ -193,6 +309,7 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFr
     denominator = denominator.set_domain(own_field)
     lc = denominator.LC()
     factors = [(f.set_domain(own_field).monic(), m) for f, m in denominator.factor_list()[1]]
+    cancelled = check_closed_form(factors, numerators) if closed_form else set()
     if field != own_field:
         factors = [(f.set_domain(field), m) for f, m in factors]
         denominator = denominator.set_domain(field)
@@ -200,6 +317,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFr
     quotients = [N.div(denominator) for N in numerators]
     groups_per: list[list[PoleGroup]] = [[] for _ in numerators]
     for index, (q, m) in enumerate(factors):
+        if index in cancelled:  # no pole left: every principal part is zero
+            continue
         rest = sp.Poly(lc, s, domain=field)
         for j, (other, mult) in enumerate(factors):
             if j != index:
@@ -213,7 +332,7 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly) -> list[PartialFr
             for (quotient, _), groups in zip(quotients, groups_per)]
 
 
-def partial_fractions(F: sp.Expr, s: sp.Symbol) -> PartialFractions:
+def partial_fractions(F: sp.Expr, s: sp.Symbol, *, closed_form: bool = False) -> PartialFractions:
     """Structured partial-fraction decomposition of a rational function F(s).
 
     Parameters
@@ -222,6 +341,9 @@ def partial_fractions(F: sp.Expr, s: sp.Symbol) -> PartialFractions:
         Rational in ``s`` with rational, algebraic or symbolic coefficients.
     s : sympy.Symbol
         The transform variable.
+    closed_form : bool
+        Raise :class:`InversionError` at once when a factor has no exact real terms
+        (see :func:`closed_form_obstacle`), as the inversions do.
 
     Returns
     -------
@@ -240,7 +362,7 @@ def partial_fractions(F: sp.Expr, s: sp.Symbol) -> PartialFractions:
     0
     """
     N, D = _field_polys(F, s)
-    return decompose([N], D)[0]
+    return decompose([N], D, closed_form=closed_form)[0]
 
 
 def residue_scale(k: int) -> sp.Rational:

@@ -23,7 +23,7 @@ import sympy as sp
 from ..model.errors import InversionError
 from .algebraic import AlgebraicRoot
 from .named import named
-from .partial_fractions import PoleGroup, residue_scale
+from .partial_fractions import PoleGroup, is_symbolic_biquadratic, residue_scale
 
 __all__ = ["Term", "derivative_terms", "group_terms", "terms_expr", "solution_terms", "naming_scope"]
 
@@ -190,13 +190,6 @@ def _algebraic_terms(group: PoleGroup) -> list[Term]:
             if term:
                 out.append(term)
     return out
-
-
-def _is_symbolic_biquadratic(q: sp.Poly) -> bool:
-    """s⁴ + p s² + r with coefficients that are not all rational."""
-    coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
-    return q.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0 and not all(
-        c.is_Rational for c in coeffs)
 
 
 def _biquadratic_terms(group: PoleGroup) -> list[Term]:
@@ -379,7 +372,7 @@ def _named_terms(group: PoleGroup) -> list[Term] | None:
         return None
     if group.degree == 2:
         return _named_quadratic_terms(group)
-    if _is_symbolic_biquadratic(group.factor):
+    if is_symbolic_biquadratic(group.factor):
         return _named_biquadratic_terms(group)
     return None
 
@@ -397,7 +390,7 @@ def group_terms(group: PoleGroup) -> list[Term]:
         return _linear_terms(group)
     if group.degree == 2:
         return _quadratic_terms(group)
-    if _is_symbolic_biquadratic(group.factor):
+    if is_symbolic_biquadratic(group.factor):
         return _biquadratic_terms(group)
     return _algebraic_terms(group)
 

@@ -1,0 +1,295 @@
+"""Refuse at once what the exact route cannot finish, before any symbolic work.
+
+The exact route builds the adjugate of λ²M + λC + K, factors Δ(λ) over the field of the
+coefficients and computes residues in the number field of each factor. Two kinds of
+scenes cannot finish there (see :mod:`laplace_springs.exact.partial_fractions`): an
+irreducible factor of degree ≥ 3 with symbolic coefficients (no closed-form roots; the
+residues alone can take minutes of multivariate gcds) and a rational factor of degree
+above :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE`. The
+partial-fraction engine refuses both right after factoring; :func:`screen_scene` refuses
+them before the adjugate is even built, from exact rational arithmetic at numbers:
+
+* Δ and the numerators N_i of X_i = N_i/Δ are computed at numeric values p of the
+  parameters, by python-flint determinants and solves at integer λ and interpolation
+  (milliseconds for 2 coordinates, under a second for 40).
+* Specialising parameters is a ring homomorphism, so each irreducible factor Q of Δ over
+  ℚ(params) specialises to a product of irreducible factors of Δ(p) over ℚ. An
+  irreducible factor f of Δ(p) of degree ≥ 3 that is not an even quartic therefore lies
+  in a factor Q of degree ≥ 3 that is not an even quartic either (an even quartic's
+  specialisation has no such factor). Q has rational coefficients only if Q = f, and
+  then f divides Δ(p') at every other point p' too; if f does not divide Δ(p'), Q has
+  symbolic coefficients and no closed form. Q of degree > MAX_EXACT_FACTOR_DEGREE fails
+  either way.
+* Q's principal parts vanish (the pole cancels and nothing is refused) only if Q^m
+  divides every numerator of every piece; then f divides every numerator at p. So a
+  refusal needs a numerator at p that f does not divide. A forced scene's piece with
+  delay τ has numerators adj(λ)·E(F_τ + [τ = 0] r) over Δ·E, E the inputs' common
+  denominator; every supported input has denominator factors of degree ≤ 2, which f
+  (degree ≥ 3) cannot divide, so the same test holds with E taken at p.
+
+Each refusal is therefore one the engine would make; anything the screen cannot decide
+(entries that are not rational functions of the parameters, Δ(p) ≡ 0, a coincidence at
+p') goes on to the engine, which decides exactly. Scenes above
+:data:`MAX_EXACT_COORDINATES` are refused on size alone.
+"""
+
+from __future__ import annotations
+
+import flint
+import sympy as sp
+
+from ..model.errors import InversionError
+from ..model.forcing import input_transform
+from ..model.numbers import generic_values
+from ..model.scene import Scene
+from ..model.symbols import lam
+from .partial_fractions import MAX_EXACT_FACTOR_DEGREE
+
+__all__ = ["MAX_EXACT_COORDINATES", "screen_scene"]
+
+#: Largest scene (coordinates) the exact route takes. The fraction-free adjugate of
+#: λ²M + λC + K costs about n⁴ (measured on damped chains: 12 coordinates 0.7 s, 20 3 s,
+#: 30 14 s), and a scene above MAX_EXACT_FACTOR_DEGREE/2 = 12 coordinates gets this far
+#: only when Δ(λ) splits into small factors (decoupled or symmetric parts). The numeric
+#: routes (``method="modal"`` or ``"certified"``) take free numeric scenes of any size.
+MAX_EXACT_COORDINATES = 40
+
+_Pencil = tuple[flint.fmpq_mat, flint.fmpq_mat, flint.fmpq_mat]
+_Vector = list[flint.fmpq_poly]
+
+
+def _fmpq(value: sp.Expr) -> flint.fmpq | None:
+    """A SymPy Rational as fmpq; None for anything else (irrational, zoo, symbolic)."""
+    if not value.is_Rational:
+        return None
+    return flint.fmpq(int(value.p), int(value.q))
+
+
+def _matrix(matrix: sp.MatrixBase, point: dict) -> flint.fmpq_mat | None:
+    """A SymPy matrix at ``point`` as an fmpq_mat; None if some entry is not rational."""
+    entries = []
+    for e in matrix:
+        value = _fmpq(e.xreplace(point) if point else e)
+        if value is None:
+            return None
+        entries.append(value)
+    return flint.fmpq_mat(matrix.rows, matrix.cols, entries)
+
+
+def _pencil(scene: Scene, point: dict) -> _Pencil | None:
+    """(M, C, K) at ``point`` (None if some entry is not rational there)."""
+    M, C, K = (_matrix(m, point) for m in (scene.M, scene.C, scene.K))
+    if M is None or C is None or K is None:
+        return None
+    return M, C, K
+
+
+def _rational(expr: sp.Expr, point: dict) -> tuple[flint.fmpq_poly, flint.fmpq_poly] | None:
+    """A rational function of λ at ``point`` as (numerator, denominator) over ℚ, or None."""
+    numerator, denominator = sp.fraction(sp.together(expr.xreplace(point)))
+    polys = []
+    for part in (numerator, denominator):
+        try:
+            poly = sp.Poly(part, lam)
+        except sp.PolynomialError:
+            return None
+        coeffs = []
+        for c in reversed(poly.all_coeffs()):
+            value = _fmpq(c)
+            if value is None:
+                return None
+            coeffs.append(value)
+        polys.append(flint.fmpq_poly(coeffs))
+    if polys[1] == 0:
+        return None
+    return polys[0], polys[1]
+
+
+def _right_hand_sides(scene: Scene, pencil: _Pencil, point: dict) -> list[_Vector] | None:
+    """The vectors w with X = adj(λ)·w/(Δ·E) for each piece (one per delay), at ``point``.
+
+    Free scene: w = r(λ) = M(λ x0 + v0) + C x0. Forced: per delay τ, w = E·(F_τ + [τ = 0] r)
+    with E the lcm of the inputs' denominators at ``point``; None when an input is not
+    rational there, or E has an irreducible factor of degree ≥ 3 (which no supported
+    input gives: the refusals below rely on it).
+    """
+    M, C, _ = pencil
+    x0, v0 = _matrix(scene.x0, point), _matrix(scene.v0, point)
+    if x0 is None or v0 is None:
+        return None
+    slope, offset = M * x0, M * v0 + C * x0
+    free = [flint.fmpq_poly([offset[i, 0], slope[i, 0]]) for i in range(scene.n)]
+    if not scene.is_forced:
+        return [free]
+    assert scene.forcing is not None
+    parts: dict[sp.Expr, dict[int, tuple[flint.fmpq_poly, flint.fmpq_poly]]] = {sp.S.Zero: {}}
+    for j, f in enumerate(scene.forcing):
+        for tau, R in input_transform(f, f"forcing[{j}]", lam).parts:
+            fraction = _rational(R, point)
+            if fraction is None:
+                return None
+            parts.setdefault(tau, {})[j] = fraction
+    vectors = []
+    for tau, inputs in parts.items():
+        E = flint.fmpq_poly([1])
+        for _, den in inputs.values():
+            E = E * den / E.gcd(den)
+        _, factors = E.factor()
+        if any(g.degree() > 2 for g, _ in factors):
+            return None
+        w = [E * inputs[j][0] / inputs[j][1] if j in inputs else flint.fmpq_poly([0])
+             for j in range(scene.n)]
+        if tau == 0:
+            w = [wj + E * rj for wj, rj in zip(w, free)]
+        vectors.append(w)
+    return vectors
+
+
+def _interpolate(xs: list[int], ys: list[flint.fmpq]) -> flint.fmpq_poly:
+    """The polynomial of degree < len(xs) through (xs, ys), by divided differences."""
+    coefficients = list(ys)
+    for j in range(1, len(xs)):
+        for i in range(len(xs) - 1, j - 1, -1):
+            coefficients[i] = (coefficients[i] - coefficients[i - 1]) / (xs[i] - xs[i - j])
+    poly = flint.fmpq_poly([coefficients[-1]])
+    for i in range(len(xs) - 2, -1, -1):
+        poly = poly * flint.fmpq_poly([-xs[i], 1]) + coefficients[i]
+    return poly
+
+
+def _determinant(pencil: _Pencil) -> flint.fmpq_poly:
+    """Δ(λ) = det(λ²M + λC + K) at the pencil's numbers."""
+    M, C, K = pencil
+    xs = list(range(2 * M.nrows() + 1))
+    return _interpolate(xs, [(M * (x * x) + C * x + K).det() for x in xs])
+
+
+def _transform(pencil: _Pencil, vectors: list[_Vector]
+               ) -> tuple[flint.fmpq_poly, list[_Vector]] | None:
+    """Δ and, for each w in ``vectors``, the numerators adj(λ)·w; None if Δ ≡ 0.
+
+    adj(P(x))·w(x) = det P(x) · P(x)⁻¹ w(x) at integers x with det P(x) ≠ 0, then
+    interpolation (deg adj ≤ 2n - 2).
+    """
+    M, C, K = pencil
+    n = M.nrows()
+    count = 2 * n - 1 + max(0, max((wi.degree() for w in vectors for wi in w), default=0))
+    xs: list[int] = []
+    dets: list[flint.fmpq] = []
+    nodes: list[int] = []
+    values: list[list[flint.fmpq_mat]] = []
+    x = 0
+    while len(xs) < 2 * n + 1 or len(nodes) < count:
+        if x > count + 2 * n + 1:  # Δ has at most 2n integer roots unless it vanishes
+            return None
+        P = M * (x * x) + C * x + K
+        det = P.det()
+        if len(xs) < 2 * n + 1:
+            xs.append(x)
+            dets.append(det)
+        if det != 0 and len(nodes) < count:
+            nodes.append(x)
+            values.append([P.solve(flint.fmpq_mat(n, 1, [wi(x) for wi in w])) * det
+                           for w in vectors])
+        x += 1
+    delta = _interpolate(xs, dets)
+    if delta == 0:
+        return None
+    numerators = [[_interpolate(nodes, [row[k][i, 0] for row in values]) for i in range(n)]
+                  for k in range(len(vectors))]
+    return delta, numerators
+
+
+def _is_even_quartic(f: flint.fmpq_poly) -> bool:
+    coeffs = f.coeffs()
+    return f.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0
+
+
+def _other_point(symbols) -> dict:
+    """A second set of generic values, none equal to :func:`generic_values`'."""
+    return {symbol: sp.Rational(61 + 11 * i, 113 + 5 * i)
+            for i, symbol in enumerate(sorted(symbols, key=lambda symbol: symbol.name))}
+
+
+def screen_scene(scene: Scene) -> None:
+    """Raise InversionError at once when the exact route cannot finish for ``scene``.
+
+    See the module notes: every refusal here is one the partial-fraction engine would
+    make after building the resolvent and factoring Δ(λ); this one takes milliseconds.
+
+    Examples
+    --------
+    A damped two-mass chain with symbolic masses, springs and dashpot: Δ is an
+    irreducible quartic in λ with symbolic coefficients.
+
+    >>> import sympy as sp
+    >>> m1, m2, k1, k2, c = sp.symbols("m1 m2 k1 k2 c", positive=True)
+    >>> scene = Scene.from_matrices(M=[[m1, 0], [0, m2]], C=[[c, -c], [-c, c]],
+    ...     K=[[k1 + k2, -k2], [-k2, k2]], x0=[1, 0], v0=[0, 0])
+    >>> screen_scene(scene)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 4 with symbolic coefficients ...
+    """
+    n = scene.n
+    if n > MAX_EXACT_COORDINATES:
+        raise InversionError(
+            f"the exact route takes at most MAX_EXACT_COORDINATES = {MAX_EXACT_COORDINATES} "
+            f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
+            f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
+            "free numeric scenes of any size")
+    symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
+    if not symbols and 2 * n <= MAX_EXACT_FACTOR_DEGREE:
+        return  # no factor of Δ can be too large, and none is symbolic
+    everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
+    entries = [e for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m]
+    if everything and not all(e.is_rational_function(*everything) for e in entries):
+        return
+    point = generic_values(everything) if everything else {}
+    pencil = _pencil(scene, point)
+    vectors = _right_hand_sides(scene, pencil, point) if pencil is not None else None
+    found = _transform(pencil, vectors) if pencil is not None and vectors is not None else None
+    if found is None:
+        return
+    delta, pieces = found
+    _, factors = delta.factor()
+    stays = [f for f, _ in factors
+             if (f.degree() > MAX_EXACT_FACTOR_DEGREE
+                 or (symbols and f.degree() >= 3 and not _is_even_quartic(f)))
+             and any(N % f != 0 for numerators in pieces for N in numerators)]
+    if not stays:
+        return
+    if not symbols:
+        degree = max(f.degree() for f in stays)
+        unforced = " (for the free motion: they take no forcing)" if scene.is_forced else ""
+        raise InversionError(
+            f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {degree} > "
+            f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}: exact terms cost about the "
+            "fourth power of the degree (degree 24: 1.2 s per coordinate, 40: 10 s); the "
+            "numeric routes evaluate any degree: ls.solve(scene, method='modal') or "
+            f"method='certified'{unforced}")
+    names = ", ".join(sorted(symbol.name for symbol in symbols))
+    large = [f.degree() for f in stays if f.degree() > MAX_EXACT_FACTOR_DEGREE]
+    if large:
+        shown = f"{max(large)}" if max(large) == 2 * n else f"at least {max(large)}"
+        raise InversionError(
+            f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} "
+            f"> MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE} (seen at "
+            f"generic values of {names}): too large for exact terms whether its coefficients "
+            f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
+            "(method='modal' or 'certified'), which evaluate any degree")
+    other = _pencil(scene, _other_point(everything))
+    if other is None:
+        return
+    delta_other = _determinant(other)
+    symbolic = [f.degree() for f in stays if delta_other % f != 0]
+    if not symbolic:
+        return  # rational factors, perhaps: the engine decides
+    degree = max(symbolic)
+    shown = f"{degree}" if degree == 2 * n else f"at least {degree}"
+    raise InversionError(
+        f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} with "
+        f"symbolic coefficients (seen at generic values of {names}): its roots have no "
+        "closed form (in the parameters only factors of degree <= 2 and even quartics "
+        f"λ**4 + p*λ**2 + r are solved); substitute numbers for {names} (the numeric "
+        "routes, method='modal' or 'certified', need numbers too)")

@@ -1,0 +1,236 @@
+"""Fail fast or answer fast (issue 11, item 5): the exact stage refuses at once what it
+cannot finish, and keeps answering what it can.
+
+The wall-time asserts guard hangs (minutes before this change), not speed targets: their
+limits are generous. Values are checked against independent routes: mpmath's Talbot
+inversion, the matrix-exponential reference, residue identities.
+"""
+
+from __future__ import annotations
+
+import time
+
+import mpmath
+import pytest
+import sympy as sp
+
+import laplace_springs as ls
+from laplace_springs.bench.reference import reference_motion, relative_error
+from laplace_springs.exact import assembly
+from laplace_springs.exact.algebraic import numeric_value
+from laplace_springs.exact.assembly import exact_motion
+from laplace_springs.exact.partial_fractions import MAX_EXACT_FACTOR_DEGREE, partial_fractions
+from laplace_springs.exact.screening import MAX_EXACT_COORDINATES, screen_scene
+
+s, t = sp.symbols("s t")
+a = sp.Symbol("a")
+m1, m2, k1, k2, c, w = sp.symbols("m1 m2 k1 k2 c w", positive=True)
+HANG_GUARD = 2.0  # seconds; the refusals below took minutes (or never ended) before
+
+
+def refused(call) -> tuple[str, float]:
+    """The InversionError message of ``call()`` and the seconds it took."""
+    start = time.perf_counter()
+    with pytest.raises(ls.InversionError) as info:
+        call()
+    return str(info.value), time.perf_counter() - start
+
+
+def damped_pair(**kw) -> ls.Scene:
+    """The issue's symbolic damped two-mass scene: Δ is an irreducible symbolic quartic."""
+    kw.setdefault("x0", [1, 0])
+    return ls.Scene.from_matrices(M=[[m1, 0], [0, m2]], C=[[c, -c], [-c, c]],
+                                  K=[[k1 + k2, -k2], [-k2, k2]], v0=[0, 0], **kw)
+
+
+def chain(masses, springs, damping=0, x0=None) -> ls.Scene:
+    """Masses in a row between two walls; springs[i] joins node i-1 and node i."""
+    n = len(masses)
+
+    def tridiagonal(values):
+        A = sp.zeros(n, n)
+        for i in range(n):
+            A[i, i] = values[i] + values[i + 1]
+            if i + 1 < n:
+                A[i, i + 1] = A[i + 1, i] = -values[i + 1]
+        return A.tolist()
+
+    return ls.Scene.from_matrices(M=sp.diag(*masses).tolist(), C=tridiagonal([damping] * (n + 1)),
+                                  K=tridiagonal(springs), x0=x0 or [1] + [0] * (n - 1),
+                                  v0=[0] * n)
+
+
+def irreducible_chain(n: int) -> ls.Scene:
+    """Masses 1..n, damped: Δ(λ) is irreducible over ℚ, of degree 2n (the refusal names it)."""
+    springs = [2] + [sp.Rational(3, 2) if i % 2 == 0 else 1 for i in range(1, n + 1)]
+    return chain(list(range(1, n + 1)), springs, damping=sp.Rational(1, 20))
+
+
+# -- symbolic factors of degree >= 3 -------------------------------------------------
+def test_symbolic_damped_pair_is_refused_at_once():
+    message, seconds = refused(lambda: ls.solve(damped_pair()))
+    assert seconds < HANG_GUARD
+    assert "degree 4" in message and "symbolic coefficients" in message
+    assert "substitute numbers" in message and "need numbers too" in message
+    for name in ("c", "k1", "k2", "m1", "m2"):
+        assert name in message
+
+
+def test_symbolic_damped_pair_is_refused_at_once_even_without_the_screen(monkeypatch):
+    # the partial-fraction engine refuses right after factoring, before any gcd
+    monkeypatch.setattr(assembly, "screen_scene", lambda scene: None)
+    message, seconds = refused(lambda: exact_motion(damped_pair()))
+    assert seconds < HANG_GUARD
+    assert "degree 4" in message and "symbolic coefficients" in message
+
+
+def test_forced_symbolic_damped_pair_is_refused_at_once():
+    scene = damped_pair(x0=[0, 0], forcing=[sp.cos(w * ls.t), sp.Heaviside(ls.t - 2)])
+    message, seconds = refused(lambda: ls.solve(scene))
+    assert seconds < HANG_GUARD
+    assert "degree 4" in message and "symbolic coefficients" in message
+
+
+@pytest.mark.parametrize("F, degree", [
+    (1 / (s**4 + a * s + 1), 4),
+    (1 / (s**3 + a * s + 1), 3),
+    ((s + 1) / ((s**5 + a * s + 1) * (s**2 + 1)), 5),
+])
+def test_symbolic_transform_is_refused_at_once(F, degree):
+    message, seconds = refused(lambda: ls.inverse_laplace(F, s, t))
+    assert seconds < HANG_GUARD
+    assert f"degree {degree}" in message and "symbolic coefficients" in message
+    assert "substitute numbers for a" in message
+
+
+def test_symbolic_quadratic_factors_still_invert():
+    b, d = sp.symbols("b d", positive=True)
+    F = 1 / ((s**2 + a * s + b) * (s**2 + c * s + d))
+    f = ls.inverse_laplace(F, s, t)
+    values = {a: sp.Rational(1, 3), b: 2, c: sp.Rational(1, 2), d: 5}
+    reference = mpmath.invertlaplace(
+        lambda z: 1 / ((z**2 + z / 3 + 2) * (z**2 + z / 2 + 5)), 1.3, method="talbot")
+    value = complex(sp.N(f.subs(values).subs(t, sp.Rational(13, 10)), 30))
+    assert abs(value.imag) < 1e-25
+    assert abs(value.real - float(reference)) < 1e-14
+
+
+def test_unexcited_symbolic_quartic_cancels_and_is_not_refused():
+    # A damped symbolic pair decoupled from an excited mass: Δ has the pair's irreducible
+    # symbolic quartic, but every numerator cancels it; the answer is the single mass's
+    # cos(√(k0/m0) t). Before, the engine computed the quartic's (zero) residues: minutes.
+    m0, k0 = sp.symbols("m0 k0", positive=True)
+    scene = ls.Scene.from_matrices(
+        M=sp.diag(m0, m1, m2).tolist(), C=[[0, 0, 0], [0, c, -c], [0, -c, c]],
+        K=[[k0, 0, 0], [0, k1 + k2, -k2], [0, -k2, k2]], x0=[1, 0, 0], v0=[0, 0, 0])
+    start = time.perf_counter()
+    motion = exact_motion(scene)
+    assert time.perf_counter() - start < 10
+    expected = [sp.cos(sp.sqrt(k0 / m0) * ls.t), 0, 0]
+    assert [sp.simplify(x - e) for x, e in zip(motion.substituted(), expected)] == [0, 0, 0]
+
+
+def test_rational_quartic_beside_a_symbolic_mass_is_not_refused():
+    # Δ = (m0 λ² + k0)·(a rational, irreducible, damped quartic): the screen must see that
+    # the quartic does not depend on the parameters (it divides Δ at a second point).
+    m0, k0 = sp.symbols("m0 k0", positive=True)
+    scene = ls.Scene.from_matrices(
+        M=sp.diag(m0, 1, 2).tolist(), C=[[0, 0, 0], [0, 1, -1], [0, -1, 1]],
+        K=[[k0, 0, 0], [0, 3, -2], [0, -2, 2]], x0=[1, 1, 0], v0=[0, 0, 0])
+    screen_scene(scene)  # no refusal
+    x = exact_motion(scene).x
+    pair = ls.Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, -1], [-1, 1]],
+                                  K=[[3, -2], [-2, 2]], x0=[1, 0], v0=[0, 0])
+    times = ["0.37", "1.3", "4.1"]
+    reference = reference_motion(pair, times)
+    values = [[numeric_value(x[i].subs(ls.t, sp.Rational(time_)), 30) for time_ in times]
+              for i in (1, 2)]
+    assert relative_error(values, reference) < 1e-25
+
+
+def test_symbolic_uniform_chain_still_solves():
+    # 3 masses m, springs k: Δ = (mλ² + 2k)(m²λ⁴ + 4mkλ² + 2k²), an even quartic
+    m, k = sp.symbols("m k", positive=True)
+    scene = chain([m] * 3, [k] * 4)
+    x = ls.solve(scene).substituted()
+    numbers = {m: 2, k: 3}
+    times = ["0.37", "1.3", "4.1"]
+    reference = reference_motion(chain([2] * 3, [3] * 4), times)
+    values = [[sp.N(e.subs(numbers).subs(ls.t, sp.Rational(time_)), 30) for time_ in times]
+              for e in x]
+    assert relative_error(values, reference) < 1e-25
+
+
+# -- numeric factors above the degree limit --------------------------------------------
+def test_degree_200_transform_is_refused_at_once():
+    # s**200 + 2s + 2 is irreducible (Eisenstein at 2)
+    message, seconds = refused(lambda: ls.inverse_laplace(1 / (s**200 + 2 * s + 2), s, t))
+    assert seconds < HANG_GUARD
+    assert "degree 200" in message and f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}" in message
+    assert "modal" in message and "certified" in message
+
+
+def test_issue_example_names_the_large_factor():
+    # s**200 + s + 1 = (s**2 + s + 1)·(an irreducible factor of degree 198)
+    message, seconds = refused(lambda: ls.inverse_laplace(1 / (s**200 + s + 1), s, t))
+    assert seconds < HANG_GUARD
+    assert "degree 198" in message
+
+
+def test_the_limit_is_exact():
+    top = MAX_EXACT_FACTOR_DEGREE
+    partial_fractions(1 / (s**top + 2 * s + 2), s, closed_form=True)  # allowed
+    message, _ = refused(lambda: partial_fractions(1 / (s**(top + 1) + 2 * s + 2), s,
+                                                   closed_form=True))
+    assert f"degree {top + 1}" in message
+
+
+def test_a_factor_at_the_limit_inverts_exactly():
+    top = MAX_EXACT_FACTOR_DEGREE
+    f = ls.inverse_laplace(1 / (s**top + 2 * s + 2), s, t)
+    with mpmath.workdps(40):  # at t = 6, f is not tiny (near t = 0 it is t**(top-1)/(top-1)!)
+        reference = mpmath.invertlaplace(lambda z: 1 / (z**top + 2 * z + 2), 6, method="talbot")
+        value = mpmath.mpf(str(numeric_value(f.subs(t, 6), 40)))
+        assert abs(value - reference) < mpmath.mpf(10) ** -25 * abs(reference)
+
+
+def test_partial_fractions_alone_still_answer_at_degree_200():
+    start = time.perf_counter()
+    pf = ls.partial_fractions(1 / (s**200 + 2 * s + 2), s)
+    assert time.perf_counter() - start < HANG_GUARD
+    (group,) = pf.groups
+    q, (h,) = group.factor, group.residues
+    assert group.degree == 200
+    assert (h * q.diff()).rem(q).as_expr() == 1  # residue of 1/q at a simple root: 1/q'(ρ)
+
+
+def test_thirteen_mass_chain_is_refused_at_once():
+    scene = irreducible_chain(13)
+    message, seconds = refused(lambda: ls.solve(scene, method="exact"))
+    assert seconds < HANG_GUARD
+    assert "degree 26" in message and f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}" in message
+    assert "method='modal'" in message
+
+
+def test_forced_thirteen_mass_chain_is_refused_at_once():
+    free = irreducible_chain(13)
+    scene = ls.Scene.from_matrices(M=free.M, C=free.C, K=free.K, x0=free.x0, v0=free.v0,
+                                   forcing=[sp.Heaviside(ls.t - 1)] + [0] * 12)
+    message, seconds = refused(lambda: ls.solve(scene))  # "auto" takes forced scenes exactly
+    assert seconds < HANG_GUARD
+    assert "degree 26" in message
+
+
+def test_large_scene_is_refused_on_size():
+    n = MAX_EXACT_COORDINATES + 1
+    message, seconds = refused(lambda: ls.solve(chain([1] * n, [1] * (n + 1)), method="exact"))
+    assert seconds < HANG_GUARD
+    assert f"MAX_EXACT_COORDINATES = {MAX_EXACT_COORDINATES}" in message and str(n) in message
+
+
+def test_nine_mass_chain_whose_factors_are_small_still_solves():
+    # a uniform chain's Δ (degree 18) splits into small factors: cheap exact terms
+    scene = chain([1] * 9, [1] * 10, x0=[1, 0, 0, 2, 0, 0, 0, 0, 0])
+    times = ["0.37", "1.3", "4.1"]
+    values = ls.solve(scene, method="exact").evaluate(times)
+    assert relative_error(values, reference_motion(scene, times)) < 1e-13
