@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .partial_fractions import PartialFractions, partial_fractions
+from .partial_fractions import PartialFractions, partial_fractions, transform_of
 from .real_terms import Term, group_terms, terms_expr
 
 __all__ = ["InverseTransform", "inverse_laplace", "inverse_laplace_terms"]
@@ -38,13 +38,13 @@ class InverseTransform:
         return terms_expr(list(self.terms), t) + deltas
 
 
-def inverse_laplace_terms(F: sp.Expr, s: sp.Symbol) -> InverseTransform:
+def inverse_laplace_terms(F: sp.Expr | str, s: sp.Symbol, *, parameters: object = None) -> InverseTransform:
     """Structured real-form inverse Laplace transform of a rational F(s).
 
     See :func:`inverse_laplace` for the forms; this returns the terms instead of one
     expression.
     """
-    decomposition = partial_fractions(F, s, closed_form=True)
+    decomposition = partial_fractions(transform_of(F, s, parameters), s, closed_form=True)
     terms = tuple(term for group in decomposition.groups for term in group_terms(group))
     to_sympy = decomposition.polynomial.domain.to_sympy
     impulses = tuple(to_sympy(c) for c in reversed(decomposition.polynomial.all_coeffs()))
@@ -53,7 +53,7 @@ def inverse_laplace_terms(F: sp.Expr, s: sp.Symbol) -> InverseTransform:
     return InverseTransform(terms, impulses, decomposition)
 
 
-def inverse_laplace(F: sp.Expr, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
+def inverse_laplace(F: sp.Expr | str, s: sp.Symbol, t: sp.Symbol, *, parameters: object = None) -> sp.Expr:
     """Inverse Laplace transform of a rational function, in real form.
 
     The result is a sum of terms t^k e^{αt}(a cos βt + b sin βt): complex-conjugate
@@ -67,11 +67,15 @@ def inverse_laplace(F: sp.Expr, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
 
     Parameters
     ----------
-    F : sympy expression
+    F : sympy expression or str
         Rational function of ``s`` with rational, algebraic or symbolic coefficients.
-        Floats are taken as their decimal value (0.2 is 1/5).
+        Floats are taken as their decimal value (0.2 is 1/5). Text such as
+        ``"1/(s**2 + 2*s + 5)"`` is read by the safe parser (never evaluated) and may
+        name ``s`` and the declared ``parameters`` only.
     s, t : sympy.Symbol
         Transform variable and time.
+    parameters : sequence or mapping, optional
+        Names text ``F`` may use as symbols (positive by default), e.g. ``["a"]``.
 
     Returns
     -------
@@ -105,5 +109,7 @@ def inverse_laplace(F: sp.Expr, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
     sqrt(2)*sinh(sqrt(2)*t)/2
     >>> inverse_laplace((s + 3) / (s * (s + 1)), s, t)
     3 - 2*exp(-t)
+    >>> inverse_laplace("1/(s**2 + a**2)", s, t, parameters=["a"])
+    sin(a*t)/a
     """
-    return inverse_laplace_terms(F, s).as_expr(t)
+    return inverse_laplace_terms(F, s, parameters=parameters).as_expr(t)

@@ -139,11 +139,11 @@ def named(base: str, index: int, definition: sp.Expr, *, positive: bool | None =
     Returns
     -------
     sympy.Expr
-        The named atom, or ``definition`` itself when it has no free symbols (a number
-        needs no name).
+        The named atom, or ``definition`` itself when it has no free symbols or is a lone
+        symbol (a number or a parameter needs no other name).
     """
     definition = sp.sympify(definition, strict=True)
-    if not definition.free_symbols:
+    if not definition.free_symbols or definition.is_Symbol:
         return definition
     cls = _named_class(base, index, definition, positive, meaning,
                        None if display is None else sp.sympify(display, strict=True))

@@ -37,11 +37,13 @@ from math import factorial
 
 import sympy as sp
 
-from ..model.errors import InversionError
+from ..model.errors import InversionError, SceneError
+from ..model.numbers import declare_parameters, parse_expression, shown
+from ..model.symbols import TIME
 
 __all__ = ["PoleGroup", "PartialFractions", "partial_fractions", "decompose",
            "MAX_EXACT_FACTOR_DEGREE", "closed_form_obstacle", "check_closed_form",
-           "is_symbolic_biquadratic"]
+           "is_symbolic_biquadratic", "transform_of"]
 
 #: Largest degree of an irreducible factor with rational coefficients whose exact real
 #: terms are built (``inverse_laplace``, ``solve(scene, method="exact")``). The cost grows
@@ -205,14 +207,44 @@ def check_closed_form(factors: list[tuple[sp.Poly, int]], numerators: list[sp.Po
     return cancelled
 
 
+def transform_of(F: object, s: sp.Symbol, parameters: object = None) -> sp.Expr:
+    """F as a SymPy expression: text is read by the safe parser, never evaluated.
+
+    Text may name ``s`` and the declared ``parameters`` (names, positive by default, or
+    a mapping name -> assumption; see
+    :func:`laplace_springs.model.numbers.declare_parameters`); any other name is refused.
+
+    Examples
+    --------
+    >>> s = sp.Symbol("s")
+    >>> transform_of("1/(s**2 + a*s + 1)", s, ["a"])
+    1/(a*s + s**2 + 1)
+    >>> transform_of("__import__('os').system('ls')", s)
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.InversionError: the transform: expected an expression in s, got "__import__('os').system('ls')": unexpected character '_' at column 1
+    """
+    if not isinstance(s, sp.Symbol):
+        raise InversionError(f"the transform variable must be a Symbol, got {shown(s)}")
+    if isinstance(F, str):
+        try:
+            declared = declare_parameters(parameters)
+            F = parse_expression(F.strip(), "the transform", variables={**declared, s.name: s},
+                                 expected=f"an expression in {s.name}")
+        except SceneError as exc:
+            raise InversionError(str(exc)) from None
+        if s != TIME and F.has(TIME):
+            raise InversionError(f"the transform {F} contains the time t; write it in {s.name}")
+        return F
+    try:
+        return sp.sympify(F, strict=True)  # expressions and numbers
+    except sp.SympifyError:
+        raise InversionError(f"the transform must be text or a SymPy expression, got {shown(F)}") from None
+
+
 def _field_polys(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
     """Numerator and denominator of F as polynomials in s over a common field."""
-    if not isinstance(s, sp.Symbol):
-        raise InversionError(f"the transform variable must be a Symbol, got {s!r}")
-    try:
-        F = sp.sympify(F, strict=True)  # expressions and numbers; text is never parsed
-    except sp.SympifyError:
-        raise InversionError(f"the transform must be a SymPy expression, got {F!r}") from None
+    F = transform_of(F, s)
     if F.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise InversionError(f"the transform is not finite: {F} (a zero denominator?)")
     if F.has(sp.Float):
@@ -332,7 +364,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
             for (quotient, _), groups in zip(quotients, groups_per)]
 
 
-def partial_fractions(F: sp.Expr, s: sp.Symbol, *, closed_form: bool = False) -> PartialFractions:
+def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = False,
+                      parameters: object = None) -> PartialFractions:
     """Structured partial-fraction decomposition of a rational function F(s).
 
     Parameters
@@ -344,6 +377,8 @@ def partial_fractions(F: sp.Expr, s: sp.Symbol, *, closed_form: bool = False) ->
     closed_form : bool
         Raise :class:`InversionError` at once when a factor has no exact real terms
         (see :func:`closed_form_obstacle`), as the inversions do.
+    parameters : sequence or mapping, optional
+        Names that text ``F`` may use besides ``s`` (see :func:`transform_of`).
 
     Returns
     -------
@@ -361,7 +396,7 @@ def partial_fractions(F: sp.Expr, s: sp.Symbol, *, closed_form: bool = False) ->
     >>> sp.simplify(pf.as_expr() - 1 / ((s + 1) ** 2 * (s**2 + 1)))
     0
     """
-    N, D = _field_polys(F, s)
+    N, D = _field_polys(transform_of(F, s, parameters), s)
     return decompose([N], D, closed_form=closed_form)[0]
 
 

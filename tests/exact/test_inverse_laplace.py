@@ -137,8 +137,30 @@ def test_floats_are_taken_as_their_decimal_value():
     (sp.exp(-s) / s, "not a rational function"),
     (1 / (s**3 + a * s + 1), "symbolic coefficients"),
     (1 / (s - s), "not finite"),
-    ("1/(s + 1)", "must be a SymPy expression"),  # text is never parsed
+    ("__import__('os').system('touch x')", "expected an expression in s, got .*unexpected character '_'"),
+    ("1/(s + a)", "unknown name 'a'.*declare it: parameters=\\['a'\\]"),
+    ("exp(-2*s)/s", "not a rational function"),
+    ("t/s", "contains the time t"),
+    ([1, 2], "must be text or a SymPy expression"),
 ])
 def test_errors_are_clear(F, match):
     with pytest.raises(ls.InversionError, match=match):
         ls.inverse_laplace(F, s, t)
+
+
+def test_text_is_parsed_safely_and_names_only_declared_parameters(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert ls.inverse_laplace("1/(s**2 + 2*s + 5)", s, t) == sp.exp(-t) * sp.sin(2 * t) / 2
+    b = sp.Symbol("b", positive=True)
+    assert ls.inverse_laplace("1/(s + b)", s, t, parameters=["b"]) == sp.exp(-b * t)
+    with pytest.raises(ls.InversionError):
+        ls.partial_fractions("__import__('os').system('touch x')", s)
+    assert not (tmp_path / "x").exists()
+    groups = ls.partial_fractions("1/(s*(s + 1))", s).groups  # 1/s - 1/(s + 1)
+    assert [(g.factor.as_expr(), g.residues[0].as_expr()) for g in groups] == [(s, 1), (s + 1, -1)]
+
+
+def test_a_lone_symbol_gets_no_name():
+    # 1/((s + a)² + 1) -> e^{-a t} sin t, with a itself, not a named gamma_1
+    result = ls.inverse_laplace(1 / ((s + a) ** 2 + 1), s, t)
+    assert result == sp.exp(-a * t) * sp.sin(t)
