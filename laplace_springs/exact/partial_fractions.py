@@ -229,13 +229,13 @@ def transform_of(F: object, s: sp.Symbol, parameters: object = None) -> sp.Expr:
     if isinstance(F, str):
         try:
             declared = declare_parameters(parameters)
-            F = parse_expression(F.strip(), "the transform", variables={**declared, s.name: s},
-                                 expected=f"an expression in {s.name}")
+            parsed = parse_expression(F.strip(), "the transform", variables={**declared, s.name: s},
+                                      expected=f"an expression in {s.name}")
         except SceneError as exc:
             raise InversionError(str(exc)) from None
-        if s != TIME and F.has(TIME):
-            raise InversionError(f"the transform {F} contains the time t; write it in {s.name}")
-        return F
+        if s != TIME and parsed.has(TIME):
+            raise InversionError(f"the transform {parsed} contains the time t; write it in {s.name}")
+        return parsed
     try:
         return sp.sympify(F, strict=True)  # expressions and numbers
     except sp.SympifyError:
