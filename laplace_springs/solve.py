@@ -99,7 +99,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     if decision.route == "certified":
         return _certified(scene, decision, target)
     try:
-        motion = decompose_modal(scene)
+        motion = _modal_motion(scene)
     except SceneError:
         if method != "auto":
             raise
@@ -114,6 +114,15 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         if better is not None:
             return _certified(scene, better, target)
     return solution
+
+
+def _modal_motion(scene: Scene):
+    """The modal route's decomposition; a failed float64 eigen-solver is a SceneError."""
+    try:
+        return decompose_modal(scene)
+    except np.linalg.LinAlgError as exc:
+        raise SceneError(f"the modal route's float64 eigen-decomposition failed ({exc}); the "
+                         "scene's scales are too far apart for float64: use method='certified'") from None
 
 
 def _certified(scene: Scene, decision: Decision, target: float) -> CertifiedSolution:

@@ -23,6 +23,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from laplace_springs import Scene, SceneError, solve
+from laplace_springs.bench.reference import reference_motion_arb
 from laplace_springs.model.numbers import parse_expression
 from laplace_springs.model.symbols import TIME
 
@@ -145,3 +146,31 @@ def test_float_times_of_every_route_agree_with_the_textbook():
         with mpmath.workdps(60):
             exact = np.array([float(mpmath.cos(2 * mpmath.mpf(value))) for value in times])
         assert np.all(np.abs(values[0] - exact) <= bounds[0] + 1e-300), method
+
+
+# ----------------------------------------------------------------------------- extreme scales
+
+EXTREMES = {
+    "stiff at the limit": {"M": [[1]], "K": [["1e300"]], "x0": [1], "v0": [0]},
+    "tiny mass, huge spring": {"M": [["1e-300"]], "K": [["1e300"]], "x0": [1], "v0": [0]},
+    "huge mass, tiny spring": {"M": [["1e300"]], "K": [["1e-300"]], "x0": [1], "v0": [0]},
+    "huge displacement": {"M": [[1]], "K": [[1]], "x0": ["1e300"], "v0": [0]},
+    "huge damping": {"M": [[1]], "C": [["1e300"]], "K": [[1]], "x0": [1], "v0": [0]},
+}
+
+
+@pytest.mark.parametrize("name", EXTREMES)
+def test_scenes_at_the_limits_are_solved_within_their_bounds(name):
+    scene = Scene.from_matrices(**EXTREMES[name])
+    times = [0.0, 1.0, 1e3]
+    values, bounds = solve(scene).evaluate(times, return_error=True)
+    reference = reference_motion_arb(scene, times, digits=30).astype(float)
+    assert np.all(np.isfinite(values)) and np.all(np.isfinite(bounds))
+    assert np.all(np.abs(values - reference) <= bounds)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+def test_a_failing_float64_eigen_solver_is_a_scene_error_naming_the_way_out():
+    scene = Scene.from_matrices(**EXTREMES["tiny mass, huge spring"])
+    with pytest.raises(SceneError, match="use method='certified'"):
+        solve(scene, method="modal")
