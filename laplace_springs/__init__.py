@@ -16,12 +16,14 @@ from ._version import __version__
 from .analysis.frequency import frequency_response, omega, steady_state_amplitude
 from .analysis.modes import Mode, modes
 from .exact.inverse import inverse_laplace, inverse_laplace_terms
+from .exact.laplace import laplace
 from .exact.partial_fractions import partial_fractions
 from .exact.resolvent import Resolvent, resolvent
 from .model.errors import InversionError, SceneError
 from .model.forcing import cosine, impulse, ramp, sine, step
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
+from .model.symbols import S as s
 from .model.symbols import lam
 from .output.drawing import draw_scene
 from .output.latex import resolvent_latex
@@ -35,7 +37,7 @@ from .solve import solve
 
 __all__ = [
     "Scene", "SceneError", "InversionError", "load_scene", "bundled_scenes",
-    "resolvent", "Resolvent", "resolvent_latex", "lam", "partial_fractions", "inverse_laplace",
+    "resolvent", "Resolvent", "resolvent_latex", "lam", "s", "laplace", "partial_fractions", "inverse_laplace",
     "inverse_laplace_terms", "solve", "Solution", "ExactSolution", "ModalSolution",
     "CertifiedSolution", "Verification", "TARGET", "t",
     "cosine", "sine", "step", "impulse", "ramp",
