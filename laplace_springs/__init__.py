@@ -14,6 +14,7 @@ Matrix([
 
 from ._version import __version__
 from .analysis.frequency import frequency_response, omega, steady_state_amplitude
+from .analysis.interop import from_state_space, transfer_function
 from .analysis.modes import Mode, modes
 from .exact.inverse import inverse_laplace, inverse_laplace_terms
 from .exact.laplace import laplace
@@ -27,7 +28,7 @@ from .model.symbols import S as s
 from .model.symbols import lam
 from .output.drawing import draw_scene
 from .output.latex import resolvent_latex
-from .output.plots import plot_frequency_response
+from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero
 from .policy import TARGET
 from .routes.certified import CertifiedSolution
 from .routes.exact import ExactSolution
@@ -43,4 +44,5 @@ __all__ = [
     "cosine", "sine", "step", "impulse", "ramp",
     "modes", "Mode", "frequency_response", "steady_state_amplitude",
     "plot_frequency_response", "draw_scene", "omega", "__version__",
+    "transfer_function", "from_state_space", "plot_bode", "plot_pole_zero",
 ]

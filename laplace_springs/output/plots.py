@@ -28,6 +28,7 @@ import numpy as np
 import sympy as sp
 
 from ..analysis.frequency import frequency_response
+from ..analysis.interop import poles_and_zeros
 from ..analysis.modes import modes
 from ..model.errors import SceneError
 from ..model.scene import Scene
@@ -54,6 +55,7 @@ class Motion(Protocol):
 __all__ = [
     "Motion", "time_grid", "default_t_end", "motion", "Energy", "energy",
     "plot_motion", "plot_phase", "plot_energy", "plot_frequency_response", "overview_figure",
+    "plot_bode", "plot_pole_zero", "bode_data",
 ]
 
 LINE_WIDTH = 2.2
@@ -586,3 +588,212 @@ def overview_figure(solution: Motion, *, t_end: float | None = None) -> Figure:
         ax.text(0.5, 0.5, f"(no diagram: {exc})", ha="center", va="center", wrap=True)
     plot_motion(solution, bottom.subplots(), t_end=t_end, title="Mass Position vs. Time")
     return figure
+
+
+# ----------------------------------------------------------------------------
+# Bode and pole-zero plots
+# ----------------------------------------------------------------------------
+
+
+def _check_matrices_numeric(scene: Scene, what: str) -> None:
+    """M, C and K are numbers (initial data do not enter G(s))."""
+    symbols = scene.M.free_symbols | scene.C.free_symbols | scene.K.free_symbols
+    if symbols:
+        names = ", ".join(sorted(symbol.name for symbol in symbols))
+        raise SceneError(f"{what} needs numbers, but M, C, K have the parameters {names}; "
+                         "give them values with scene.subs(...)")
+
+
+def _check_coordinates(scene: Scene, indices: Sequence[int]) -> None:
+    for index in indices:
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)) \
+                or not 0 <= index < scene.n:
+            raise ValueError(f"coordinate {index!r} is out of range for a scene with {scene.n} "
+                             "coordinates (0-based)")
+
+
+def _bode_frequencies(scene: Scene, omegas: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(frequencies, damped natural frequencies of the oscillatory modes).
+
+    By default 4000 log-spaced points from a tenth of the lowest to ten times the highest
+    natural frequency, with the resonance frequencies themselves added.
+    """
+    found = modes(scene)
+    peaks = np.array(sorted(float(m.damped_frequency) for m in found if m.kind == "oscillatory"))
+    if omegas is None:
+        positive = [float(m.natural_frequency) for m in found if m.kind != "rigid"]
+        low, high = (min(positive) / 10, max(positive) * 10) if positive else (0.01, 100)
+        omegas = np.union1d(np.geomspace(low, high, 4000), peaks)
+    w = np.atleast_1d(np.asarray(omegas, dtype=float))
+    if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w) & (w > 0)):
+        raise ValueError("omegas must be positive and finite (they are drawn on a log axis)")
+    return w, peaks
+
+
+def bode_data(scene: Scene, omegas: Any = None, *, force: int = 0,
+              outputs: Sequence[int] | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The numbers of :func:`plot_bode`: frequencies, magnitudes in dB, phases in degrees.
+
+    Returns
+    -------
+    omegas : numpy.ndarray, shape (F,)
+    magnitude_db : numpy.ndarray, shape (len(outputs), F)
+        20·log10 |G(iω)[i, force]| (−inf where the entry is identically zero).
+    phase_deg : numpy.ndarray, shape (len(outputs), F)
+        arg G(iω)[i, force] in degrees, unwrapped along ω (so it runs continuously past
+        −180°).
+
+    Examples
+    --------
+    >>> from laplace_springs.model.scene import Scene
+    >>> scene = Scene.from_matrices(M=[[1]], C=[["0.2"]], K=[[4]], x0=[0], v0=[0])
+    >>> w, db, phase = bode_data(scene, [2.0])
+    >>> round(float(db[0, 0]), 6), round(float(phase[0, 0]), 6)  # 20 log10(1/(cω)) = 20 log10 2.5
+    (7.9588, -90.0)
+    """
+    _check_matrices_numeric(scene, "a Bode plot")
+    rows = list(range(scene.n) if outputs is None else outputs)
+    _check_coordinates(scene, [force, *rows])
+    w, _ = _bode_frequencies(scene, omegas)
+    H = frequency_response(scene, w)[:, rows, force].T
+    with np.errstate(divide="ignore"):
+        magnitude = 20 * np.log10(np.abs(H))
+    phase = np.degrees(np.unwrap(np.angle(H), axis=1))
+    return w, magnitude, phase
+
+
+def plot_bode(scene: Scene, omegas: Any = None, *, force: int = 0,
+              outputs: Sequence[int] | None = None,
+              ax: tuple[Axes, Axes] | None = None) -> Figure:
+    """Bode plot of G(iω) = (K − ω²M + iωC)⁻¹: magnitude in dB and phase in degrees.
+
+    One line per output coordinate i for a unit harmonic force on ``force``: the magnitude
+    20·log10 |G(iω)[i, force]| in dB re 1 m/N, and the phase arg G in degrees, unwrapped
+    along ω, against a log frequency axis. G(iω) comes from the exact matrices
+    (:func:`laplace_springs.analysis.frequency.frequency_response`); the numbers are
+    :func:`bode_data`. Dashed vertical lines mark the damped natural frequencies of the
+    oscillatory modes.
+
+    Parameters
+    ----------
+    scene : Scene
+        Numeric M, C and K.
+    omegas : array_like, optional
+        Positive frequencies (rad/s); by default 4000 log-spaced points from a tenth of the
+        lowest to ten times the highest natural frequency.
+    force : int
+        The coordinate the force acts on (0-based).
+    outputs : sequence of int, optional
+        Coordinates to draw (0-based; default all).
+    ax : pair of matplotlib Axes, optional
+        (magnitude axes, phase axes); a new pyplot figure by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    SceneError
+        When M, C or K have symbols.
+    ValueError
+        For a coordinate out of range, or frequencies that are not positive and finite.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from laplace_springs.model.scene_files import load_scene
+    >>> fig = plot_bode(load_scene("three-dashpots"))
+    >>> [a.get_xscale() for a in fig.axes], [a.get_ylabel() for a in fig.axes]
+    (['log', 'log'], ['magnitude (dB re 1 m/N)', 'phase (degrees)'])
+    """
+    w, magnitude, phase = bode_data(scene, omegas, force=force, outputs=outputs)
+    _, peaks = _bode_frequencies(scene, w)
+    rows = list(range(scene.n) if outputs is None else outputs)
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        fig, (mag_ax, phase_ax) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
+    else:
+        mag_ax, phase_ax = ax
+        fig = _root_figure(mag_ax)
+    source = scene.names[force]
+    for i, db, degrees in zip(rows, magnitude, phase):
+        label = f"{scene.names[i]} / f_{source}"
+        (line,) = mag_ax.semilogx(w, db, label=label)
+        phase_ax.semilogx(w, degrees, color=line.get_color(), label=label)
+    for peak in peaks[(peaks >= w.min()) & (peaks <= w.max())]:
+        for axis in (mag_ax, phase_ax):
+            axis.axvline(peak, color="0.6", linestyle="--", linewidth=0.8)
+    mag_ax.set_ylabel("magnitude (dB re 1 m/N)")
+    phase_ax.set_ylabel("phase (degrees)")
+    phase_ax.set_xlabel("frequency ω (rad/s)")
+    mag_ax.set_title(f"Bode plot, unit force on {source}")
+    mag_ax.legend(loc="best", fontsize=8)
+    for axis in (mag_ax, phase_ax):
+        axis.grid(True, which="both", alpha=0.3)
+    return fig
+
+
+def plot_pole_zero(scene: Scene, *, force: int = 0, output: int = 0, ax: Axes | None = None) -> Figure:
+    """The poles of the scene (×) and the zeros of G[output, force] (○) in the s-plane.
+
+    The poles are the roots of Δ(s) = det(s²M + sC + K); the zeros the roots of the
+    numerator adj(s)[output, force] of G[output, force] = adj/Δ. Both are computed by
+    :func:`laplace_springs.analysis.interop.poles_and_zeros` from the exact polynomials
+    (certified roots for rational scenes). A repeated root is marked with its
+    multiplicity; a zero on a pole is a mode this pair of coordinates does not see.
+
+    Parameters
+    ----------
+    scene : Scene
+        Numeric M, C and K.
+    force, output : int
+        The coordinate the force acts on and the coordinate whose position is read (0-based).
+    ax : matplotlib Axes, optional
+        A new pyplot figure by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Its axes hold two lines labelled ``"poles"`` and ``"zeros"`` whose data are the
+        real and imaginary parts.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from laplace_springs.model.scene import Scene
+    >>> scene = Scene.from_matrices(M=[[1]], C=[[2]], K=[[5]], x0=[0], v0=[0])
+    >>> fig = plot_pole_zero(scene)
+    >>> poles = [line for line in fig.axes[0].get_lines() if line.get_label() == "poles"][0]
+    >>> poles.get_xdata().tolist(), poles.get_ydata().tolist()  # s² + 2s + 5: -1 ± 2i
+    ([-1.0, -1.0], [-2.0, 2.0])
+    """
+    _check_matrices_numeric(scene, "a pole-zero plot")
+    _check_coordinates(scene, [force, output])
+    poles, zeros = poles_and_zeros(scene, force=force, output=output)
+    ax = _axes(ax, (6.5, 5.5))
+    fig = _root_figure(ax)
+    ax.axhline(0.0, color="0.5", linewidth=0.8)
+    ax.axvline(0.0, color="0.5", linewidth=0.8)
+    ax.plot(poles.real, poles.imag, "x", color="C3", markersize=9, markeredgewidth=2, label="poles",
+            linestyle="none")
+    ax.plot(zeros.real, zeros.imag, "o", color="C0", markersize=9, markerfacecolor="none",
+            markeredgewidth=1.8, label="zeros", linestyle="none")
+    for points in (poles, zeros):
+        values, counts = np.unique(np.round(points, 9), return_counts=True)
+        for value, count in zip(values, counts):
+            if count > 1:
+                ax.annotate(f"{count}", (value.real, value.imag), textcoords="offset points",
+                            xytext=(6, 6), fontsize=9)
+    names = scene.names
+    ax.set_xlabel("Re s (1/s)")
+    ax.set_ylabel("Im s (rad/s)")
+    ax.set_title(f"Poles and zeros of G[{names[output]}, {names[force]}]"
+                 + (f"\n{scene.title}" if scene.title else ""))
+    ax.legend(loc="best", fontsize=8)
+    ax.grid(True, alpha=0.3)
+    ax.margins(0.15)
+    return fig
