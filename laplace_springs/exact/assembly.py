@@ -4,6 +4,9 @@ Each coordinate X_i(λ) = N_i(λ)/Δ(λ) is inverted by the shared partial-fract
 (the denominator is factored once). A driven scene adds one *piece* per delay τ of its
 inputs: terms in t − τ switched on at t = τ. The seed's basis g_k(t) = L⁻¹[λ^k/Δ(λ)] and
 the coefficients c_ik with x_i(t) = Σ_k c_ik g_k(t) are available beside the closed form.
+Where Δ(λ) has a factor without closed-form roots (symbolic coefficients, degree ≥ 3) its
+part of x_i(t) is a sum over its roots, Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt}, valid where those
+roots are simple (:attr:`ExactMotion.conditions`).
 
 Nothing here evaluates numbers or writes output: :class:`ExactMotion` is the exact data
 the later stages (evaluation, LaTeX, plots) read.
@@ -24,8 +27,17 @@ from ..model.symbols import TIME, lam
 from .jumps import InitialJump, initial_jump
 from .named import definitions, expand_names
 from .partial_fractions import decompose
-from .real_terms import Term, derivative_terms, group_terms, naming_scope, solution_terms, terms_expr
+from .real_terms import (
+    RootSumTerm,
+    Term,
+    derivative_terms,
+    group_terms,
+    naming_scope,
+    solution_terms,
+    terms_expr,
+)
 from .resolvent import Resolvent, resolvent
+from .root_sums import Condition
 from .screening import screen_scene
 
 __all__ = ["Piece", "ExactMotion", "exact_motion"]
@@ -165,12 +177,17 @@ class ExactMotion:
         return tuple(k for k in range(C.shape[1]) if any(C[i, k] != 0 for i in range(C.shape[0])))
 
     @cached_property
-    def g_basis(self) -> dict[int, sp.Expr]:
-        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
+    def g_terms(self) -> dict[int, tuple[Term, ...]]:
+        """The terms of each g_k(t) = L⁻¹[λ^k/Δ(λ)], k in :attr:`g_indices`."""
         D = self.g_denominator
         monomials = [sp.Poly(lam**k, lam, domain=D.domain) for k in self.g_indices]
-        rows = solution_terms(decompose(monomials, D, closed_form=True))
-        return {k: terms_expr(list(row), TIME) for k, row in zip(self.g_indices, rows)}
+        rows = solution_terms(decompose(monomials, D, closed_form=True, root_sums=True))
+        return dict(zip(self.g_indices, rows))
+
+    @cached_property
+    def g_basis(self) -> dict[int, sp.Expr]:
+        """g_k(t) = L⁻¹[λ^k/Δ(λ)] for the k in :attr:`g_indices`, exactly."""
+        return {k: terms_expr(list(row), TIME) for k, row in self.g_terms.items()}
 
     def g_form(self) -> sp.ImmutableMatrix:
         """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
@@ -232,6 +249,44 @@ class ExactMotion:
         """:attr:`x` with every named quantity replaced by its definition in the parameters."""
         return sp.ImmutableMatrix(expand_names(self.x))
 
+    # -- where the formula holds -------------------------------------------------
+    @property
+    def root_sums(self) -> tuple[tuple[int, int, RootSumTerm], ...]:
+        """(piece index, coordinate, term) for every sum over the roots of a factor of Δ(λ)
+        without closed-form roots (symbolic coefficients, degree ≥ 3)."""
+        return tuple((k, i, term) for k, piece in enumerate(self.pieces)
+                     for i, row in enumerate(piece.terms) for term in row
+                     if isinstance(term, RootSumTerm))
+
+    @property
+    def conditions(self) -> tuple[Condition, ...]:
+        """Where the formula holds, beyond the parameters being finite: each sum over the
+        roots of a factor q of Δ(λ) needs q's roots to be simple roots of its denominator
+        (disc_λ q ≠ 0, and no root shared with the inputs' denominators or the rest of
+        Δ). Empty when :attr:`x` has no such sum.
+
+        ``condition.expr`` is the polynomial in the parameters that must not vanish
+        (computed on first use), ``condition.holds_at(values)`` checks numbers at once.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from laplace_springs.model.scene import Scene
+        >>> m1, m2, k1, k2, c = sp.symbols("m1 m2 k1 k2 c", positive=True)
+        >>> motion = exact_motion(Scene.from_matrices(M=[[m1, 0], [0, m2]],
+        ...     C=[[c, -c], [-c, c]], K=[[k1 + k2, -k2], [-k2, k2]], x0=[1, 0], v0=[0, 0]))
+        >>> (condition,) = motion.conditions
+        >>> condition.meaning  # doctest: +ELLIPSIS
+        'c*k1*lambda + k1*k2 + lambda**4*m1*m2 + ... has simple roots (its discriminant is not 0)'
+        >>> condition.holds_at({m1: 1, m2: 2, k1: 3, k2: 5, c: sp.Rational(1, 10)})
+        True
+        """
+        found: dict[tuple, Condition] = {}
+        for _, _, term in self.root_sums:
+            condition = term.condition
+            found.setdefault((condition.factor, condition.cofactor), condition)
+        return tuple(found.values())
+
 
 def exact_motion(scene: Scene) -> ExactMotion:
     """The exact motion of a scene, free or driven.
@@ -244,21 +299,27 @@ def exact_motion(scene: Scene) -> ExactMotion:
     >>> exact_motion(Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0])).x[0]
     t*exp(-t) + exp(-t)
 
+    A factor of Δ(λ) of degree ≥ 3 with symbolic coefficients (an even quartic excepted)
+    has no closed-form roots: its part of x_i(t) is the sum over its roots
+    Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt} (a :class:`~laplace_springs.exact.root_sums.SumOverRoots`),
+    valid where those roots are simple (:attr:`ExactMotion.conditions`).
+
     Raises
     ------
     InversionError
         At once (before the resolvent is built, see
         :func:`~laplace_springs.exact.screening.screen_scene`) or right after Δ(λ) is
-        factored, when Δ has an irreducible factor of degree ≥ 3 with symbolic
-        coefficients (an even quartic excepted) or one above
-        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE`, that the
-        solution needs; or when the scene has more than
-        :data:`~laplace_springs.exact.screening.MAX_EXACT_COORDINATES` coordinates.
+        factored, when Δ has an irreducible factor above
+        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` or one of
+        degree ≥ 3 with irrational coefficients, that the solution needs; or when the scene
+        has more than :data:`~laplace_springs.exact.screening.MAX_EXACT_COORDINATES`
+        coordinates.
     """
     screen_scene(scene)
     R = resolvent(scene)
     if not scene.is_forced:
-        rows = solution_terms(decompose(list(R.numerators), R.determinant, closed_form=True))
+        rows = solution_terms(decompose(list(R.numerators), R.determinant, closed_form=True,
+                                             root_sums=True))
         flags = tuple((False,) * len(row) for row in rows)
         return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),))
     return ExactMotion(scene, R, _forced_pieces(scene, R))
@@ -289,7 +350,7 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
         numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
     denominator = R.determinant * D
     rows, flags, impulses = [], [], []
-    for pf in decompose(numerators, denominator, closed_form=True):
+    for pf in decompose(numerators, denominator, closed_form=True, root_sums=True):
         pairs = [(term, _divides(group.factor, D))
                  for group in pf.groups for term in group_terms(group)]
         rows.append(tuple(term for term, _ in pairs))

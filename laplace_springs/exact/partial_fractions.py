@@ -22,12 +22,16 @@ real and imaginary parts of the residues cost about d⁴ (measured for s^d + s +
 transform: d = 12 0.18 s, 16 0.37 s, 24 1.2 s, 30 2.9 s, 40 9.9 s), and a scene pays it
 once per coordinate (a damped 8-mass chain with an irreducible Δ of degree 16: 4 s).
 Beyond :data:`MAX_EXACT_FACTOR_DEGREE` the inversion is refused at once, as is a factor
-of degree ≥ 3 with symbolic (or irrational) coefficients other than an even quartic: its
-roots have no closed form. :func:`closed_form_obstacle` says which, before any residue
-is computed (``closed_form=True``). The partial fractions themselves stay cheap (degree
-200: 0.01 s) for rational coefficients, so :func:`partial_fractions` refuses nothing
-by default. A factor that cancels from every numerator (its principal parts all vanish)
-is never refused.
+of degree ≥ 3 with irrational coefficients: :func:`closed_form_obstacle` says which,
+before any residue is computed (``closed_form=True``). A factor of degree ≥ 3 with
+symbolic coefficients (an even quartic excepted) has no closed-form roots either; with
+``root_sums=True`` it becomes a :class:`RootSumGroup`, whose terms are a sum over its
+roots Σ_{q(ρ)=0} N(ρ)/D'(ρ) e^{ρt} (:mod:`laplace_springs.exact.root_sums`): nothing is
+reduced modulo q, so it costs milliseconds where its residues took minutes of gcds over
+the parameters' field (without ``root_sums`` it is refused). The partial fractions
+themselves stay cheap (degree 200: 0.01 s) for rational coefficients, so
+:func:`partial_fractions` refuses nothing by default. A factor that cancels from every
+numerator (its principal parts all vanish) is never refused.
 """
 
 from __future__ import annotations
@@ -40,10 +44,11 @@ import sympy as sp
 from ..model.errors import InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
+from .root_sums import SumOverRoots, root_sum_weights
 
-__all__ = ["PoleGroup", "PartialFractions", "partial_fractions", "decompose",
+__all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
            "MAX_EXACT_FACTOR_DEGREE", "closed_form_obstacle", "check_closed_form",
-           "is_symbolic_biquadratic", "transform_of"]
+           "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of"]
 
 #: Largest degree of an irreducible factor with rational coefficients whose exact real
 #: terms are built (``inverse_laplace``, ``solve(scene, method="exact")``). The cost grows
@@ -103,6 +108,45 @@ class PoleGroup:
 
 
 @dataclass(frozen=True)
+class RootSumGroup(PoleGroup):
+    """The principal parts of N/D at the roots of a factor without closed-form roots.
+
+    Its residues are not computed (that takes gcds over the parameters' field): the
+    group keeps N and D, and its terms are Σ_{q(ρ)=0} N(ρ)/D'(ρ) e^{ρt} (with t^k terms
+    when q^m, m > 1, divides D). ``residues`` is empty.
+
+    Attributes
+    ----------
+    numerator, denominator : sympy.Poly
+        N and D, with the powers of q that divide N cancelled from both:
+        q^multiplicity divides D exactly and q does not divide N.
+    """
+
+    numerator: sp.Poly
+    denominator: sp.Poly
+
+    @property
+    def order(self) -> int:
+        """Order of the pole (q does not divide the numerator, so it does not cancel)."""
+        return self.multiplicity
+
+    @property
+    def weights(self) -> tuple[sp.Expr, ...]:
+        """w_k(λ) with the inverse Σ_{q(λ)=0} Σ_k w_k(λ) t^k e^{λt} (see
+        :func:`~laplace_springs.exact.root_sums.root_sum_weights`)."""
+        return root_sum_weights(self.factor, self.numerator, self.denominator, self.multiplicity)
+
+    def as_expr(self) -> sp.Expr:
+        """Σ_{q(ρ)=0} Σ_k k! w_k(ρ)/(s − ρ)^{k+1}, a sum over the roots (unevaluated)."""
+        s = self.factor.gen
+        rho = sp.Dummy("rho")
+        summand = sp.Add(*(factorial(k) * w.xreplace({s: rho}) / (s - rho) ** (k + 1)
+                           for k, w in enumerate(self.weights)))
+        poly = sp.PurePoly(self.factor.as_expr().xreplace({s: rho}), rho)
+        return SumOverRoots._new(poly, sp.Lambda(rho, summand))
+
+
+@dataclass(frozen=True)
 class PartialFractions:
     """Structured partial-fraction decomposition of a rational function of ``variable``.
 
@@ -127,6 +171,19 @@ def is_symbolic_biquadratic(q: sp.Poly) -> bool:
     coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
     return q.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0 and not all(
         c.is_Rational for c in coeffs)
+
+
+def is_root_sum_factor(q: sp.Poly) -> bool:
+    """An irreducible factor of degree ≥ 3 with symbolic coefficients, not an even quartic:
+    its roots have no closed form in the parameters, its terms are a sum over its roots.
+
+    >>> s, a = sp.symbols("s a")
+    >>> is_root_sum_factor(sp.Poly(s**3 + a*s + 1, s)), is_root_sum_factor(sp.Poly(s**4 + a*s**2 + 1, s))
+    (True, False)
+    """
+    if q.degree() < 3 or is_symbolic_biquadratic(q):
+        return False
+    return any(q.domain.to_sympy(c).free_symbols for c in q.all_coeffs())
 
 
 def closed_form_obstacle(q: sp.Poly) -> str | None:
@@ -162,9 +219,9 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
         names = ", ".join(map(str, symbols))
         return (f"irreducible factor of degree {degree} has symbolic coefficients "
                 f"({q.as_expr()}): its roots have no closed form (in the parameters only factors "
-                "of degree <= 2 and even quartics s**4 + p*s**2 + r are solved); substitute "
-                f"numbers for {names} (the numeric routes, method='modal' or 'certified', "
-                "need numbers too)")
+                "of degree <= 2 and even quartics s**4 + p*s**2 + r are solved); the exact "
+                "inverse is a sum over its roots (root_sums=True), or substitute "
+                f"numbers for {names}")
     return (f"irreducible factor of degree {degree} has irrational coefficients "
             f"({q.as_expr()}): its roots are not computed exactly; use rational numbers "
             "(decimals are exact) or the numeric route (method='modal')")
@@ -182,13 +239,15 @@ def _divides(q: sp.Poly, N: sp.Poly) -> bool:
     return N.set_domain(domain).prem(q.set_domain(domain)).is_zero
 
 
-def check_closed_form(factors: list[tuple[sp.Poly, int]], numerators: list[sp.Poly]) -> set[int]:
+def check_closed_form(factors: list[tuple[sp.Poly, int]], numerators: list[sp.Poly], *,
+                      root_sums: bool = False) -> set[int]:
     """Raise InversionError if a factor without exact real terms stays in some fraction.
 
     ``factors`` are the irreducible factors q with their multiplicities m in the shared
     denominator; q is refused (:func:`closed_form_obstacle`) unless q^m divides every
     numerator, so that its principal parts all vanish. Cheap: degrees, coefficients and,
-    only for such a factor, pseudo-remainders.
+    only for such a factor, pseudo-remainders. With ``root_sums`` the factors of
+    :func:`is_root_sum_factor` are not refused (their terms are sums over their roots).
 
     Returns
     -------
@@ -199,7 +258,7 @@ def check_closed_form(factors: list[tuple[sp.Poly, int]], numerators: list[sp.Po
     cancelled = set()
     for index, (q, m) in enumerate(factors):
         obstacle = closed_form_obstacle(q)
-        if obstacle is None:
+        if obstacle is None or (root_sums and is_root_sum_factor(q)):
             continue
         if not all(_divides(q**m, N) for N in numerators):
             raise InversionError(obstacle)
@@ -309,8 +368,15 @@ def _cofactor_inverse(q: sp.Poly, m: int, rest: sp.Poly) -> list[sp.Poly]:
     return _series_inv(series, q)
 
 
+def _root_sum_group(q: sp.Poly, m: int, N: sp.Poly, D: sp.Poly) -> RootSumGroup | None:
+    """The group of N/D at q's roots, the powers of q dividing N cancelled (None if all)."""
+    while m and _divides(q, N):  # pseudo-division first: no gcds unless q divides N
+        N, D, m = N.exquo(q), D.exquo(q), m - 1
+    return RootSumGroup(q, m, (), N, D) if m else None
+
+
 def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
-              closed_form: bool = False) -> list[PartialFractions]:
+              closed_form: bool = False, root_sums: bool = False) -> list[PartialFractions]:
     """Partial fractions of several numerators over one shared denominator.
 
     The denominator is factored once and the inverse series of each factor's cofactor is
@@ -327,6 +393,10 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
         factor has no exact real terms (:func:`closed_form_obstacle`): what the
         inversions ask for. The residues of a symbolic factor of degree ≥ 3 can take
         minutes (gcds over the parameters' field).
+    root_sums : bool
+        With ``closed_form``: a factor of :func:`is_root_sum_factor` (symbolic
+        coefficients, degree ≥ 3, no closed-form roots) is not refused but gives a
+        :class:`RootSumGroup` per numerator, without residues (milliseconds).
 
     Returns
     -------
@@ -341,7 +411,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
     denominator = denominator.set_domain(own_field)
     lc = denominator.LC()
     factors = [(f.set_domain(own_field).monic(), m) for f, m in denominator.factor_list()[1]]
-    cancelled = check_closed_form(factors, numerators) if closed_form else set()
+    summed = root_sums and closed_form
+    cancelled = check_closed_form(factors, numerators, root_sums=summed) if closed_form else set()
     if field != own_field:
         factors = [(f.set_domain(field), m) for f, m in factors]
         denominator = denominator.set_domain(field)
@@ -350,6 +421,12 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
     groups_per: list[list[PoleGroup]] = [[] for _ in numerators]
     for index, (q, m) in enumerate(factors):
         if index in cancelled:  # no pole left: every principal part is zero
+            continue
+        if summed and is_root_sum_factor(q):  # a sum over q's roots: no residues
+            for target, N in zip(groups_per, numerators):
+                found = _root_sum_group(q, m, N, denominator)
+                if found is not None:
+                    target.append(found)
             continue
         rest = sp.Poly(lc, s, domain=field)
         for j, (other, mult) in enumerate(factors):
@@ -365,7 +442,7 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
 
 
 def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = False,
-                      parameters: object = None) -> PartialFractions:
+                      root_sums: bool = False, parameters: object = None) -> PartialFractions:
     """Structured partial-fraction decomposition of a rational function F(s).
 
     Parameters
@@ -377,6 +454,9 @@ def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = Fal
     closed_form : bool
         Raise :class:`InversionError` at once when a factor has no exact real terms
         (see :func:`closed_form_obstacle`), as the inversions do.
+    root_sums : bool
+        With ``closed_form``: a symbolic factor of degree ≥ 3 without closed-form roots
+        gives a :class:`RootSumGroup` (terms summed over its roots) instead of a refusal.
     parameters : sequence or mapping, optional
         Names that text ``F`` may use besides ``s`` (see :func:`transform_of`).
 
@@ -397,7 +477,7 @@ def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = Fal
     0
     """
     N, D = _field_polys(transform_of(F, s, parameters), s)
-    return decompose([N], D, closed_form=closed_form)[0]
+    return decompose([N], D, closed_form=closed_form, root_sums=root_sums)[0]
 
 
 def residue_scale(k: int) -> sp.Rational:

@@ -7,11 +7,14 @@ Each pole group of :mod:`laplace_springs.exact.partial_fractions` becomes terms
     t^k e^{αt} a                         a real root α (a polynomial term when α = 0),
 
 with exact α, β, a, b. This module is the one place where conjugate roots are folded
-into real form.
+into real form. A factor whose roots have no closed form (degree ≥ 3, symbolic
+coefficients) gives one :class:`RootSumTerm` instead: Σ_{q(λ)=0} N(λ)/D'(λ) e^{λt}, a
+sum over its roots (:mod:`laplace_springs.exact.root_sums`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -23,11 +26,13 @@ import sympy as sp
 from ..model.errors import InversionError
 from .algebraic import AlgebraicRoot
 from .named import named
-from .partial_fractions import PoleGroup, is_symbolic_biquadratic, residue_scale
+from .partial_fractions import PoleGroup, RootSumGroup, is_symbolic_biquadratic, residue_scale
+from .root_sums import Condition, sum_over_roots
 
-__all__ = ["Term", "derivative_terms", "group_terms", "terms_expr", "solution_terms", "naming_scope"]
+__all__ = ["Term", "RootSumTerm", "derivative_terms", "group_terms", "terms_expr",
+           "solution_terms", "naming_scope"]
 
-Kind = Literal["real", "oscillatory", "hyperbolic"]
+Kind = Literal["real", "oscillatory", "hyperbolic", "root_sum"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +59,60 @@ class Term:
             cos, sin = (sp.cos, sp.sin) if self.kind == "oscillatory" else (sp.cosh, sp.sinh)
             wave = self.a * cos(self.beta * t) + self.b * sin(self.beta * t)
         return t**self.power * sp.exp(self.alpha * t) * wave
+
+
+@dataclass(frozen=True)
+class RootSumTerm(Term):
+    """Σ_{q(λ)=0} Σ_k w_k(λ) t^k e^{λt}: the terms of a factor without closed-form roots.
+
+    ``kind`` is ``"root_sum"``; the single-pole fields ``alpha``, ``beta``, ``a``, ``b``
+    are NaN (no one pole), ``power`` is 0. For a simple factor w_0 = N(λ)/D'(λ) (the
+    residue of N/D at a root), so :meth:`as_expr` is the textbook
+    Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt} for the free motion of a scene.
+
+    Attributes
+    ----------
+    factor : sympy.Poly
+        q(λ), summed over.
+    weights : tuple of sympy.Expr
+        w_k(λ), in q's generator.
+    group : RootSumGroup
+        The numerator N and denominator D it comes from (for printing and conditions).
+    """
+
+    factor: sp.Poly
+    weights: tuple[sp.Expr, ...]
+    group: RootSumGroup
+
+    def as_expr(self, t: sp.Expr) -> sp.Expr:
+        """The sum over the roots as one :class:`~laplace_springs.exact.root_sums.SumOverRoots`."""
+        return sum_over_roots(self.factor, self.weights, t)
+
+    @property
+    def condition(self) -> Condition:
+        """Where the formula holds: q's roots are simple roots of the denominator."""
+        group = self.group
+        return Condition(_primitive(group.factor),
+                         _primitive(group.denominator.exquo(group.factor ** group.multiplicity)))
+
+    def derivative(self) -> RootSumTerm:
+        """d/dt, term by term: t^k e^{λt} → k t^{k-1} e^{λt} + λ t^k e^{λt}."""
+        var, w = self.factor.gen, list(self.weights)
+        weights = tuple(var * w[k] + (k + 1) * (w[k + 1] if k + 1 < len(w) else 0)
+                        for k in range(len(w)))
+        return dataclasses.replace(self, weights=weights)
+
+
+def root_sum_term(group: RootSumGroup) -> RootSumTerm:
+    """The term of a :class:`RootSumGroup`."""
+    nan = sp.nan
+    return RootSumTerm("root_sum", 0, nan, nan, nan, nan, factor=group.factor,
+                       weights=group.weights, group=group)
+
+
+def _primitive(poly: sp.Poly) -> sp.Poly:
+    _, cleared = poly.clear_denoms(convert=True)
+    return cleared.primitive()[1]
 
 
 def _clean(expr: sp.Expr) -> sp.Expr:
@@ -383,6 +442,8 @@ def group_terms(group: PoleGroup) -> list[Term]:
     Symbolic quadratic and even quartic factors with simple roots come out in named
     quantities (ω_j, γ_j, σ_j: see :mod:`laplace_springs.exact.named`).
     """
+    if isinstance(group, RootSumGroup):
+        return [root_sum_term(group)]
     named_terms = _named_terms(group)
     if named_terms is not None:
         return named_terms
@@ -409,6 +470,8 @@ def terms_expr(terms: list[Term], t: sp.Symbol) -> sp.Expr:
 
 def _derivative(term: Term) -> list[Term]:
     """The exact derivative of one real term, as real terms of the same kind."""
+    if isinstance(term, RootSumTerm):
+        return [term.derivative()]
     p, alpha, beta, a, b = term.power, term.alpha, term.beta, term.a, term.b
     out = []
     if p:

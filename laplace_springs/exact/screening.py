@@ -1,36 +1,34 @@
 """Refuse at once what the exact route cannot finish, before any symbolic work.
 
 The exact route builds the adjugate of λ²M + λC + K, factors Δ(λ) over the field of the
-coefficients and computes residues in the number field of each factor. Two kinds of
-scenes cannot finish there (see :mod:`laplace_springs.exact.partial_fractions`): an
-irreducible factor of degree ≥ 3 with symbolic coefficients (no closed-form roots; the
-residues alone can take minutes of multivariate gcds) and a rational factor of degree
-above :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE`. The
-partial-fraction engine refuses both right after factoring; :func:`screen_scene` refuses
-them before the adjugate is even built, from exact rational arithmetic at numbers:
+coefficients and computes residues in the number field of each factor. A rational
+factor of degree above
+:data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` cannot finish
+there (its exact terms cost about the fourth power of the degree), nor can a symbolic
+scene whose Δ has a factor that large (its adjugate alone is out of reach). The
+partial-fraction engine refuses the first right after factoring; :func:`screen_scene`
+refuses both before the adjugate is even built, from exact rational arithmetic at
+numbers. (A symbolic factor of degree ≥ 3 below the limit is no longer refused: its
+terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
 
 * Δ and the numerators N_i of X_i = N_i/Δ are computed at numeric values p of the
   parameters, by python-flint determinants and solves at integer λ and interpolation
   (milliseconds for 2 coordinates, under a second for 40).
 * Specialising parameters is a ring homomorphism, so each irreducible factor Q of Δ over
-  ℚ(params) specialises to a product of irreducible factors of Δ(p) over ℚ. An
-  irreducible factor f of Δ(p) of degree ≥ 3 that is not an even quartic therefore lies
-  in a factor Q of degree ≥ 3 that is not an even quartic either (an even quartic's
-  specialisation has no such factor). Q has rational coefficients only if Q = f, and
-  then f divides Δ(p') at every other point p' too; if f does not divide Δ(p'), Q has
-  symbolic coefficients and no closed form. Q of degree > MAX_EXACT_FACTOR_DEGREE fails
-  either way.
+  ℚ(params) specialises to a product of irreducible factors of Δ(p) over ℚ: an
+  irreducible factor f of Δ(p) of degree > MAX_EXACT_FACTOR_DEGREE lies in a factor Q
+  of Δ at least that large.
 * Q's principal parts vanish (the pole cancels and nothing is refused) only if Q^m
   divides every numerator of every piece; then f divides every numerator at p. So a
   refusal needs a numerator at p that f does not divide. A forced scene's piece with
   delay τ has numerators adj(λ)·E(F_τ + [τ = 0] r) over Δ·E, E the inputs' common
   denominator; every supported input has denominator factors of degree ≤ 2, which f
-  (degree ≥ 3) cannot divide, so the same test holds with E taken at p.
+  cannot divide, so the same test holds with E taken at p.
 
-Each refusal is therefore one the engine would make; anything the screen cannot decide
-(entries that are not rational functions of the parameters, Δ(p) ≡ 0, a coincidence at
-p') goes on to the engine, which decides exactly. Scenes above
-:data:`MAX_EXACT_COORDINATES` are refused on size alone.
+Each refusal is therefore one the engine would make (or, for a symbolic scene, one
+whose adjugate would not finish); anything the screen cannot decide (entries that are
+not rational functions of the parameters, Δ(p) ≡ 0) goes on to the engine, which
+decides exactly. Scenes above :data:`MAX_EXACT_COORDINATES` are refused on size alone.
 """
 
 from __future__ import annotations
@@ -157,13 +155,6 @@ def _interpolate(xs: list[int], ys: list[flint.fmpq]) -> flint.fmpq_poly:
     return poly
 
 
-def _determinant(pencil: _Pencil) -> flint.fmpq_poly:
-    """Δ(λ) = det(λ²M + λC + K) at the pencil's numbers."""
-    M, C, K = pencil
-    xs = list(range(2 * M.nrows() + 1))
-    return _interpolate(xs, [(M * (x * x) + C * x + K).det() for x in xs])
-
-
 def _transform(pencil: _Pencil, vectors: list[_Vector]
                ) -> tuple[flint.fmpq_poly, list[_Vector]] | None:
     """Δ and, for each w in ``vectors``, the numerators adj(λ)·w; None if Δ ≡ 0.
@@ -200,36 +191,30 @@ def _transform(pencil: _Pencil, vectors: list[_Vector]
     return delta, numerators
 
 
-def _is_even_quartic(f: flint.fmpq_poly) -> bool:
-    coeffs = f.coeffs()
-    return f.degree() == 4 and coeffs[1] == 0 and coeffs[3] == 0
-
-
-def _other_point(symbols) -> dict:
-    """A second set of generic values, none equal to :func:`generic_values`'."""
-    return {symbol: sp.Rational(61 + 11 * i, 113 + 5 * i)
-            for i, symbol in enumerate(sorted(symbols, key=lambda symbol: symbol.name))}
-
-
 def screen_scene(scene: Scene) -> None:
     """Raise InversionError at once when the exact route cannot finish for ``scene``.
 
     See the module notes: every refusal here is one the partial-fraction engine would
-    make after building the resolvent and factoring Δ(λ); this one takes milliseconds.
+    make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate that
+    would not finish); this one takes milliseconds.
 
     Examples
     --------
-    A damped two-mass chain with symbolic masses, springs and dashpot: Δ is an
-    irreducible quartic in λ with symbolic coefficients.
+    A damped chain of 13 masses: Δ(λ) is irreducible of degree 26.
 
     >>> import sympy as sp
-    >>> m1, m2, k1, k2, c = sp.symbols("m1 m2 k1 k2 c", positive=True)
-    >>> scene = Scene.from_matrices(M=[[m1, 0], [0, m2]], C=[[c, -c], [-c, c]],
-    ...     K=[[k1 + k2, -k2], [-k2, k2]], x0=[1, 0], v0=[0, 0])
+    >>> n = 13
+    >>> K = sp.zeros(n, n)
+    >>> for i in range(n):
+    ...     K[i, i] = 2 + (i % 2)
+    ...     if i + 1 < n:
+    ...         K[i, i + 1] = K[i + 1, i] = -1
+    >>> scene = Scene.from_matrices(M=sp.diag(*range(1, n + 1)), C=sp.eye(n) / 20, K=K,
+    ...                             x0=[1] + [0] * (n - 1), v0=[0] * n)
     >>> screen_scene(scene)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 4 with symbolic coefficients ...
+    laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 26 > MAX_EXACT_FACTOR_DEGREE = 24: ...
     """
     n = scene.n
     if n > MAX_EXACT_COORDINATES:
@@ -238,9 +223,9 @@ def screen_scene(scene: Scene) -> None:
             f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
             f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
             "free numeric scenes of any size")
+    if 2 * n <= MAX_EXACT_FACTOR_DEGREE:
+        return  # no factor of Δ can be too large
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
-    if not symbols and 2 * n <= MAX_EXACT_FACTOR_DEGREE:
-        return  # no factor of Δ can be too large, and none is symbolic
     everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
     entries = [e for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m]
     if everything and not all(e.is_rational_function(*everything) for e in entries):
@@ -253,43 +238,24 @@ def screen_scene(scene: Scene) -> None:
         return
     delta, pieces = found
     _, factors = delta.factor()
-    stays = [f for f, _ in factors
-             if (f.degree() > MAX_EXACT_FACTOR_DEGREE
-                 or (symbols and f.degree() >= 3 and not _is_even_quartic(f)))
+    stays = [f.degree() for f, _ in factors if f.degree() > MAX_EXACT_FACTOR_DEGREE
              and any(N % f != 0 for numerators in pieces for N in numerators)]
     if not stays:
         return
     if not symbols:
-        degree = max(f.degree() for f in stays)
         unforced = " (for the free motion: they take no forcing)" if scene.is_forced else ""
         raise InversionError(
-            f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {degree} > "
+            f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {max(stays)} > "
             f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}: exact terms cost about the "
             "fourth power of the degree (degree 24: 1.2 s per coordinate, 40: 10 s); the "
             "numeric routes evaluate any degree: ls.solve(scene, method='modal') or "
             f"method='certified'{unforced}")
     names = ", ".join(sorted(symbol.name for symbol in symbols))
-    large = [f.degree() for f in stays if f.degree() > MAX_EXACT_FACTOR_DEGREE]
-    if large:
-        shown = f"{max(large)}" if max(large) == 2 * n else f"at least {max(large)}"
-        raise InversionError(
-            f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} "
-            f"> MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE} (seen at "
-            f"generic values of {names}): too large for exact terms whether its coefficients "
-            f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
-            "(method='modal' or 'certified'), which evaluate any degree")
-    other = _pencil(scene, _other_point(everything))
-    if other is None:
-        return
-    delta_other = _determinant(other)
-    symbolic = [f.degree() for f in stays if delta_other % f != 0]
-    if not symbolic:
-        return  # rational factors, perhaps: the engine decides
-    degree = max(symbolic)
-    shown = f"{degree}" if degree == 2 * n else f"at least {degree}"
+    largest = max(stays)
+    shown = f"{largest}" if largest == 2 * n else f"at least {largest}"
     raise InversionError(
-        f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} with "
-        f"symbolic coefficients (seen at generic values of {names}): its roots have no "
-        "closed form (in the parameters only factors of degree <= 2 and even quartics "
-        f"λ**4 + p*λ**2 + r are solved); substitute numbers for {names} (the numeric "
-        "routes, method='modal' or 'certified', need numbers too)")
+        f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} "
+        f"> MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE} (seen at "
+        f"generic values of {names}): too large for exact terms whether its coefficients "
+        f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
+        "(method='modal' or 'certified'), which evaluate any degree")

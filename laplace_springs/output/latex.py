@@ -13,6 +13,12 @@ Conventions (what the output never contains, and what it uses instead):
   value (a polynomial in α_j, β_j, r_j) and a numeric value. No ``CRootOf`` text.
 - **Named quantities** of symbolic scenes (ω_j, γ_j, S_j, P_j, see
   :mod:`laplace_springs.exact.named`) are listed with their definitions.
+- **Sums over roots.** Where Δ(λ) has a factor without closed-form roots (symbolic
+  coefficients, degree ≥ 3) the formula is the textbook one,
+  x_i(t) = Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt} (with E(λ), the inputs' common denominator,
+  beside Δ'(λ) for driven scenes), and the "where" list gives Δ(λ), each N_i(λ) and
+  where the formula holds (Δ has simple roots: disc_λ Δ(λ) ≠ 0). Δ and N_i are scaled
+  as in the resolvent block (:func:`resolvent_latex`).
 - **Switched-on pieces.** Solutions hold for t ≥ 0, so a unit step at 0 is dropped; a
   step at τ > 0 prints as θ(t − τ), the unit step (θ(s) = 1 for s ≥ 0, 0 for s < 0),
   and the "where" list says so. Never ``\\operatorname{Heaviside}``.
@@ -48,6 +54,7 @@ from sympy.printing.latex import LatexPrinter
 from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion
 from ..exact.named import definitions, named, named_quantities
+from ..exact.real_terms import RootSumTerm, Term
 from ..exact.resolvent import Resolvent
 from ..exact.sylvester import FunctionName, matrix_function_terms, sylvester_matrices
 from ..model.scene import Scene
@@ -300,6 +307,8 @@ class LatexWriter:
     has_step: bool = False
     renames: dict = field(default_factory=dict)
     taken: dict = field(default_factory=dict)
+    defined_rows: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     def prepare(self, exprs: Sequence[sp.Expr]) -> list[sp.Expr]:
         """Drop θ(t), note θ(t − τ), name algebraic numbers; returns the printable forms."""
@@ -350,7 +359,7 @@ class LatexWriter:
 
     def where_rows(self) -> list[str]:
         """Rows defining every named quantity and constant used so far."""
-        rows = []
+        rows = list(self.defined_rows)
         for q, shown in definitions(self.named).items():
             meaning = rf" && \text{{{q.meaning}}}" if q.meaning else ""
             rows.append(f"{_tex(q)} &= {_tex(shown)}{meaning}")
@@ -360,7 +369,7 @@ class LatexWriter:
                         r"\text{ for } s < 0 && \text{unit step}")
         if rows:
             rows[0] = r"\text{where}\quad " + rows[0]
-        return rows
+        return rows + self.notes
 
     def render(self, output: Output = "fragment", *, title: str | None = None,
                text: str | None = None) -> str:
@@ -435,12 +444,184 @@ def as_document(blocks: Sequence[str], *, title: str | None = None, text: str | 
 
 
 # ---------------------------------------------------------------------------
+# sums over the roots of Δ(λ)
+# ---------------------------------------------------------------------------
+@lru_cache(maxsize=512)
+def _shown_sum(text: str) -> sp.Expr:
+    """An atom in t that prints as ``text``: a sum over roots written out by hand."""
+    cls = type(f"SumOverRootsShown{len(text)}", (sp.Function,),
+               {"_latex": lambda self, printer, exp=None: text})
+    return cls(TIME)
+
+
+@dataclass
+class _RootSums:
+    """Textbook LaTeX for the sums over roots of a motion, and their "where" rows.
+
+    Δ(λ) is the resolvent block's (integer for numeric scenes, monic for symbolic ones),
+    N_i(λ) the numerator over it, E(λ) the inputs' common denominator (monic): each sum
+    prints as Σ_{Δ(λ)=0} N_i(λ)/(Δ'(λ) E(λ)) e^{λ(t−τ)}.
+    """
+
+    delta: sp.Poly
+    determinant: sp.Poly
+    delta_defined: bool = False
+    delta_rows: list[str] = field(default_factory=list)
+    factors: dict = field(default_factory=dict)
+    inputs: dict = field(default_factory=dict)
+    numerators: dict = field(default_factory=dict)
+    others: dict = field(default_factory=dict)
+
+    def _define_delta(self) -> None:
+        if not self.delta_defined:
+            self.delta_defined = True
+            self.delta_rows.append(rf"\Delta(\lambda) &= {_readable_poly_tex(self.delta)} && "
+                                   r"\text{characteristic polynomial}")
+
+    def _factor_name(self, q: sp.Poly) -> str:
+        """\\Delta when q is Δ up to a constant, else P_j (defined in a row)."""
+        self._define_delta()
+        if q.degree() == self.delta.degree():
+            return r"\Delta"
+        key = q.as_expr()
+        if key not in self.factors:
+            name = f"P_{{{len(self.factors) + 1}}}"
+            self.factors[key] = (name, rf"{name}(\lambda) &= {_readable_poly_tex(q)} && "
+                                       r"\text{a factor of } \Delta(\lambda)")
+        return self.factors[key][0]
+
+    def _input_name(self, E: sp.Poly) -> str:
+        key = E.as_expr()
+        if key not in self.inputs:
+            name = "E" if not self.inputs else f"E_{{{len(self.inputs) + 1}}}"
+            self.inputs[key] = (name, rf"{name}(\lambda) &= {_readable_poly_tex(E)} && \text{{common "
+                                      r"denominator of the inputs' transforms}")
+        return self.inputs[key][0]
+
+    def _numerator_text(self, N: sp.Poly, coordinate: str, piece: int, var: str) -> str:
+        """N itself when it is one term (λ^k), else its name N_i, defined in a row."""
+        expr = N.as_expr()
+        if len(sp.Add.make_args(expr)) == 1:
+            return _raw_tex(expr.xreplace({N.gen: sp.Symbol(var)}))
+        key = (coordinate, piece, expr)
+        if key not in self.numerators:  # a second N for one coordinate and piece gets a prime
+            index = coordinate if piece == 0 else f"{coordinate},{piece}"
+            primes = "'" * sum(1 for c, p, _ in self.numerators if (c, p) == (coordinate, piece))
+            name = f"N_{{{index}}}{primes}"
+            self.numerators[key] = (name, rf"{name}(\lambda) &= {_readable_poly_tex(N)}")
+        return rf"{self.numerators[key][0]}({var})"
+
+    def text(self, term: RootSumTerm, coordinate: str, piece: int, delay: sp.Expr) -> str:
+        """Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt} for ``term`` (and its condition, noted)."""
+        group = term.group
+        q, N, D, m = group.factor, group.numerator, group.denominator, group.multiplicity
+        var = q.gen
+        qname = self._factor_name(_primitive(q))
+        others = self.others.setdefault(qname, [])
+        if qname != r"\Delta" and rf"\Delta(\lambda)/{qname}(\lambda)" not in others:
+            others.append(rf"\Delta(\lambda)/{qname}(\lambda)")
+        shifted = TIME - delay
+        E = _inputs_denominator(D, self.determinant)
+        if E is None:  # not Δ·E (cannot happen for a scene): the summand as it is
+            summand = sp.Add(*(w * shifted**k for k, w in enumerate(term.weights))) * sp.exp(var * shifted)
+            return rf"\sum_{{{qname}(\lambda) = 0}} {_raw_tex(summand)}"
+        # D = Δ_R·E = Δ·(scale·E_monic) with Δ as displayed; N/(Δ_R'E) = (N/scale)/(Δ' E_monic)
+        to_sympy = E.domain.to_sympy
+        scale = to_sympy(E.LC()) * self.determinant.domain.to_sympy(self.determinant.LC()) \
+            / self.delta.domain.to_sympy(self.delta.LC())
+        N = N * (1 / scale)
+        E = E.monic()
+        ename = self._input_name(E) if E.degree() > 0 else None
+        if ename and f"{ename}(\\lambda)" not in others:
+            others.append(f"{ename}(\\lambda)")
+        if m == 1:
+            top = self._numerator_text(N, coordinate, piece, r"\lambda")
+            bottom = r"\Delta'(\lambda)" + (rf" \, {ename}(\lambda)" if ename else "")
+            body = rf"\frac{{{top}}}{{{bottom}}} \, {_raw_tex(sp.exp(var * shifted))}"
+        else:
+            top = self._numerator_text(N, coordinate, piece, "s")
+            bottom = r"\Delta(s)" + (rf" \, {ename}(s)" if ename else "")
+            wave = _raw_tex(sp.exp(sp.Symbol("s") * shifted))
+            body = rf"\operatorname*{{Res}}_{{s = \lambda}} \frac{{{top} \, {wave}}}{{{bottom}}}"
+        return rf"\sum_{{{qname}(\lambda) = 0}} {body}"
+
+    def shown(self, expr: sp.Expr, rows: Sequence[tuple[Sequence[Term], sp.Expr, int]],
+              coordinate: str) -> sp.Expr:
+        """``expr`` with each sum over roots of ``rows`` (terms, delay, piece index) written
+        out; bracketed unless it is the whole right-hand side."""
+        plain: dict = {}
+        for terms, delay, piece in rows:
+            for term in terms:
+                if isinstance(term, RootSumTerm):
+                    atom = term.as_expr(TIME - delay)
+                    plain[atom] = self.text(term, coordinate, piece, delay)
+        if not plain:
+            return expr
+        if expr in plain:
+            return _shown_sum(plain[expr])
+        return expr.xreplace({atom: _shown_sum(rf"\left[{text}\right]")
+                              for atom, text in plain.items()})
+
+    def attach(self, writer: LatexWriter) -> None:
+        """Δ, the factors, the inputs' denominators and the numerators into the writer's
+        "where" list, and where the sums hold (each sum's roots must be simple)."""
+        writer.defined_rows += self.delta_rows
+        for table in (self.factors, self.inputs, self.numerators):
+            writer.defined_rows += [row for _, row in table.values()]
+        for qname, others in self.others.items():
+            note = (rf"&\text{{valid where }} {qname}(\lambda) \text{{ has simple roots, "
+                    rf"}} \operatorname{{disc}}_{{\lambda}} {qname}(\lambda) \neq 0")
+            if others:
+                note += r"\text{, none of them a root of } " + r" \text{ or } ".join(others)
+            writer.notes.append(note)
+
+
+def _inputs_denominator(D: sp.Poly, determinant: sp.Poly) -> sp.Poly | None:
+    """E with D = determinant·E exactly (1 when D is the determinant), or None."""
+    if D.degree() == determinant.degree():
+        if D.monic() == determinant.set_domain(D.domain).monic():
+            return sp.Poly(D.LC(), D.gen, domain=D.domain).quo_ground(
+                D.domain.convert(determinant.set_domain(D.domain).LC()))
+        return None
+    domain = D.domain.unify(determinant.domain)
+    quotient, remainder = D.set_domain(domain).div(determinant.set_domain(domain))
+    return quotient if remainder.is_zero else None
+
+
+def _readable_poly_tex(poly: sp.Poly) -> str:
+    """A polynomial in descending powers, each coefficient tidied without factoring it
+    (a symbolic chain's coefficients are too large to factor quickly)."""
+    var = poly.gen
+    to_sympy = poly.domain.to_sympy
+    terms = [sp.factor_terms(to_sympy(c)) * var**k for (k,), c in poly.terms()]
+    return _Printer({"order": "none"}).doprint(sp.Add(*terms, evaluate=False))
+
+
+def _raw_tex(expr) -> str:
+    """LaTeX of a piece of a hand-written formula (``_tex`` runs on the whole line later)."""
+    return _Printer().doprint(expr)
+
+
+def _primitive(poly: sp.Poly) -> sp.Poly:
+    _, cleared = poly.clear_denoms(convert=True)
+    return cleared.primitive()[1]
+
+
+# ---------------------------------------------------------------------------
 # solution, resolvent, Sylvester
 # ---------------------------------------------------------------------------
 def _motion_rows(writer: LatexWriter, motion: ExactMotion, form: str) -> list[str]:
     names = [latex_name(n) for n in motion.scene.names]
     if form == "terms":
-        return [row for name, e in zip(names, motion.x) for row in writer.equation(f"{name}(t)", e)]
+        R = motion.resolvent
+        sums = _RootSums(R.integer_characteristic_polynomial if motion.root_sums else R.determinant,
+                         R.determinant)
+        rows = []
+        for i, (name, e) in enumerate(zip(names, motion.x)):
+            pieces = [(piece.terms[i], piece.delay, k) for k, piece in enumerate(motion.pieces)]
+            rows += writer.equation(f"{name}(t)", sums.shown(e, pieces, str(i + 1)))
+        sums.attach(writer)
+        return rows
     if form != "g":
         raise ValueError(f"form must be 'terms' or 'g', got {form!r}")
     C, basis = motion.g_coefficients, motion.g_basis
@@ -450,10 +631,14 @@ def _motion_rows(writer: LatexWriter, motion: ExactMotion, form: str) -> list[st
         total = sp.Add(*(next(coefficients) * _g_function(k) for k in motion.g_indices))
         rows += _equation_rows(f"{name}(t)", total)
     rows.append(rf"\Delta(\lambda) &= {_poly_tex(motion.g_denominator)}")
-    for k, expr in zip(motion.g_indices, writer.prepare([basis[k] for k in motion.g_indices])):
+    sums = _RootSums(motion.g_denominator, motion.g_denominator, delta_defined=True)
+    shown = [sums.shown(basis[k], [(motion.g_terms[k], sp.S.Zero, 0)], str(k))
+             for k in motion.g_indices]
+    for k, expr in zip(motion.g_indices, writer.prepare(shown)):
         lhs = (rf"g_{{{k}}}(t) = \mathcal{{L}}^{{-1}}\left[\frac{{\lambda^{{{k}}}}}"
                rf"{{\Delta(\lambda)}}\right]")
         rows += _equation_rows(lhs, expr)
+    sums.attach(writer)
     return rows
 
 

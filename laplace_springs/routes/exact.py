@@ -19,6 +19,7 @@ import sympy as sp
 from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion, exact_motion
 from ..exact.jumps import jump_residuals
+from ..exact.root_sums import Condition
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -74,6 +75,14 @@ class ExactSolution(Solution):
     @property
     def _exact_form(self) -> ExactSolution:
         return self
+
+    @property
+    def conditions(self) -> tuple[Condition, ...]:
+        """Where :attr:`x` holds beyond finite parameters: each sum over the roots of a
+        factor of Δ(λ) (symbolic coefficients, degree ≥ 3) needs those roots simple
+        (disc_λ ≠ 0). Empty when :attr:`x` has no such sum (see
+        :attr:`laplace_springs.exact.assembly.ExactMotion.conditions`)."""
+        return self.motion.conditions
 
     def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
               standalone: bool = False, markdown: bool = False) -> str:
