@@ -245,7 +245,8 @@ def _formula_lines(scene: Scene, solution: Solution, *, pretty: bool) -> list[st
             lines += [f"{name}(t) =", sp.pretty(short, use_unicode=True), ""]
         else:
             lines.append(f"{name}(t) = {sp.sstr(short)}")
-    return lines + _definition_lines(solution) + _root_legend(names)
+    conditions = [f"valid where {condition.meaning}" for condition in solution.conditions]
+    return lines + _definition_lines(solution) + conditions + _root_legend(names)
 
 
 def _definition_lines(solution: Solution) -> list[str]:

@@ -325,6 +325,11 @@ class Solution(ABC):
         return self.exact.motion.g_form()
 
     @property
+    def conditions(self) -> tuple:
+        """Where the formula holds, when it is generic (e.g. "Δ(λ) has simple roots"); () if always."""
+        return ()
+
+    @property
     def definitions(self) -> dict:
         """Named quantity → definition for the names in :attr:`x` (empty for numeric scenes)."""
         return self.exact.motion.definitions

@@ -117,6 +117,9 @@ class _Builder:
         powers[power][row] += c
 
     def term(self, row: int, term: Term) -> None:
+        if term.kind == "root_sum":
+            raise ValueError("a sum over the roots of Δ needs numbers: substitute the parameters "
+                             "(scene.subs({...})) and solve again")
         alpha, a = self.value(term.alpha), self.value(term.a)
         k = term.power
         if term.kind == "real":
