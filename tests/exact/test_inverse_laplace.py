@@ -134,12 +134,11 @@ def test_floats_are_taken_as_their_decimal_value():
 
 
 @pytest.mark.parametrize("F, match", [
-    (sp.exp(-s) / s, "not a rational function"),
-    (1 / (s**3 + a * s + 1), "symbolic coefficients"),
+    (sp.exp(-s**2) / s, "not a rational function"),
     (1 / (s - s), "not finite"),
     ("__import__('os').system('touch x')", "expected an expression in s, got .*unexpected character '_'"),
     ("1/(s + a)", "unknown name 'a'.*declare it: parameters=\\['a'\\]"),
-    ("exp(-2*s)/s", "not a rational function"),
+    ("sqrt(s)*exp(-s)", "not a rational function"),
     ("t/s", "contains the time t"),
     ([1, 2], "must be text or a SymPy expression"),
 ])
@@ -164,3 +163,13 @@ def test_a_lone_symbol_gets_no_name():
     # 1/((s + a)² + 1) -> e^{-a t} sin t, with a itself, not a named gamma_1
     result = ls.inverse_laplace(1 / ((s + a) ** 2 + 1), s, t)
     assert result == sp.exp(-a * t) * sp.sin(t)
+
+
+def test_a_symbolic_cubic_inverts_to_a_sum_over_its_roots():
+    # 1/(s^3 + a s + 1): Σ_{q(ρ)=0} e^{ρt}/q'(ρ); at a = 2 it equals the mpmath Talbot inverse
+    result = ls.inverse_laplace(1 / (s**3 + a * s + 1), s, t)
+    assert result.atoms(sp.RootSum)
+    value = complex(result.subs({a: 2}).subs(t, sp.Rational(3, 2)).evalf(30))
+    import mpmath
+    reference = mpmath.invertlaplace(lambda z: 1 / (z**3 + 2 * z + 1), 1.5, method="talbot")
+    assert abs(value.imag) < 1e-25 and value.real == pytest.approx(float(reference), rel=1e-12)
