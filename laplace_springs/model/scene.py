@@ -6,16 +6,32 @@ masses, springs and dashpots (:meth:`Scene.from_components`). Every entry passes
 through :func:`laplace_springs.model.numbers.to_exact`, so ``0.2`` is stored as ``1/5``
 and identifiers become SymPy Symbols: ``positive=True`` in ``M``, ``C``, ``K`` and
 component values (they are physical parameters), ``real=True`` in ``x0``, ``v0``.
+
+Sizes. A scene has at most :data:`MAX_COORDINATES` coordinates and
+:data:`MAX_COMPONENTS` springs and dashpots, and a matrix given entry by entry (nested
+lists or an array) is at most :data:`MAX_MATRIX_INPUT_SIZE` square; each limit is
+checked before any entry is converted, and a violation is a :class:`SceneError` naming
+the entry and the limit. Up to :data:`DENSE_STORAGE_MAX_COORDINATES` coordinates ``M``,
+``C`` and ``K`` are dense ``sympy.ImmutableMatrix``; larger scenes hold them as
+:class:`ExactSparseMatrix` (a ``sympy.ImmutableSparseMatrix``) and every check costs time
+proportional to their nonzero entries, so a 10,000-mass chain is built in seconds.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable, Mapping, Sequence
+import heapq
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any
 
+import numpy
 import sympy
+from sympy.core.basic import Basic
+from sympy.core.containers import Dict, Tuple
+from sympy.matrices.immutable import ImmutableRepMatrix
+from sympy.polys.domains import GF
 from sympy.polys.matrices import DomainMatrix
 
 from .errors import SceneError
@@ -23,14 +39,122 @@ from .forcing import forcing_vector
 from .numbers import declare_parameters, generic_values, shown, to_exact
 from .symbols import TIME
 
-__all__ = ["SUPPORTS", "Component", "Scene"]
+__all__ = [
+    "DENSE_STORAGE_MAX_COORDINATES",
+    "MAX_COMPONENTS",
+    "MAX_COORDINATES",
+    "MAX_MATRIX_INPUT_SIZE",
+    "SUPPORTS",
+    "Component",
+    "ExactSparseMatrix",
+    "Scene",
+]
 
 #: Names of fixed supports a spring or dashpot may connect to (case-insensitive).
 SUPPORTS = frozenset({"wall", "ceiling", "ground", "floor", "support", "air"})
 LAYOUTS = ("horizontal", "vertical")
 
+#: Most coordinates (masses) a scene may have. A 100,000-mass chain is built in about
+#: 30 s (see benchmarks/bench_loading.py); the numeric routes take far fewer.
+MAX_COORDINATES = 100_000
+#: Most components (springs and dashpots together) a scene may have.
+MAX_COMPONENTS = 300_000
+#: Largest n of an n x n matrix given entry by entry (nested sequences or an array): each
+#: of its n² entries is read. A scene file with three 500 x 500 arrays (two of them full
+#: of distinct numbers, 5.6 MB) loads in about 9 s. Larger scenes: components, or a SymPy
+#: sparse matrix (whose nonzero entries only are read).
+MAX_MATRIX_INPUT_SIZE = 500
+#: Scenes with at most this many coordinates store ``M``, ``C``, ``K`` as dense
+#: ``sympy.ImmutableMatrix``; larger ones as :class:`ExactSparseMatrix`.
+DENSE_STORAGE_MAX_COORDINATES = 256
+
 Parameters = Mapping[str, sympy.Symbol]
+Entries = dict[tuple[int, int], sympy.Expr]
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
+#: Points λ at which a large scene's pencil is tried for regularity (see _pencil_is_regular).
+_SPARSE_PENCIL_POINTS = 3
+#: Largest n for the float64 eigenvalue test that accepts a clearly positive definite M.
+_FLOAT_CHECK_MAX = 2_000
+#: Listed names in error messages (the rest are counted).
+_LISTED = 10
+
+
+class ExactSparseMatrix(sympy.ImmutableSparseMatrix):
+    """The ``sympy.ImmutableSparseMatrix`` of a large scene's ``M``, ``C`` and ``K``.
+
+    The same matrix as SymPy's, built in time proportional to its nonzero entries: SymPy
+    orders a sparse matrix's entries by a general sort key (about 80 µs per entry); here
+    they are ordered by (row, column). Results of operations on it are of this class too.
+
+    Examples
+    --------
+    >>> K = ExactSparseMatrix.from_dok(3, 3, {(0, 0): 2, (0, 1): -1, (1, 0): -1})
+    >>> K == sympy.Matrix([[2, -1, 0], [-1, 0, 0], [0, 0, 0]]), K.todok()[(0, 1)]
+    (True, -1)
+    """
+
+    @classmethod
+    def _fromrep(cls, rep: Any) -> ExactSparseMatrix:
+        return cls._with_entries(rep, rep.to_sympy().to_dok())
+
+    @classmethod
+    def from_entries(cls, rows: int, cols: int,
+                     entries: Mapping[tuple[int, int], sympy.Expr]) -> ExactSparseMatrix:
+        """The matrix with these entries (SymPy expressions; zeros are left out)."""
+        nonzero = {key: value for key, value in entries.items() if value is not sympy.S.Zero}
+        return cls._with_entries(cls._smat_to_DomainMatrix(rows, cols, nonzero), nonzero)
+
+    @classmethod
+    def _with_entries(cls, rep: Any, entries: Mapping[tuple[int, int], sympy.Expr]) -> ExactSparseMatrix:
+        """The object of ``rep`` (a DomainMatrix), whose nonzero entries are ``entries``."""
+        rows, cols = rep.shape
+        if len(entries) != rep.nnz():
+            entries = rep.to_sympy().to_dok()  # some given entry was a zero after all
+        integer: dict[int, sympy.Integer] = {}
+        items = []
+        new = Basic.__new__
+        for (i, j), value in sorted(entries.items(), key=_position):
+            row = integer.get(i) or integer.setdefault(i, sympy.Integer(i))
+            column = integer.get(j) or integer.setdefault(j, sympy.Integer(j))
+            items.append(new(Tuple, new(Tuple, row, column), value))
+        table = new(Dict, *items)
+        table.elements = frozenset(items)
+        table._dict = dict(items)
+        obj = new(cls, sympy.Integer(rows), sympy.Integer(cols), table)
+        obj._rows, obj._cols, obj._rep = rows, cols, rep
+        return obj
+
+
+def _position(item: tuple[tuple[int, int], Any]) -> tuple[int, int]:
+    return item[0]
+
+
+def _from_entries(rows: int, cols: int, entries: Mapping[tuple[int, int], Any]) -> Any:
+    """The exact matrix with these entries (zeros are left out), stored as a scene of
+    ``rows`` coordinates stores it."""
+    if rows > DENSE_STORAGE_MAX_COORDINATES:
+        return ExactSparseMatrix.from_entries(rows, cols, entries)
+    flat: list[Any] = [sympy.S.Zero] * (rows * cols)
+    for (i, j), value in entries.items():
+        flat[i * cols + j] = value
+    return sympy.ImmutableMatrix(rows, cols, flat)
+
+
+def _stored(matrix: Any, n: int) -> Any:
+    """``matrix`` in a scene's storage: dense up to DENSE_STORAGE_MAX_COORDINATES, else sparse."""
+    if n > DENSE_STORAGE_MAX_COORDINATES:
+        if isinstance(matrix, ExactSparseMatrix):
+            return matrix
+        return ExactSparseMatrix.from_entries(matrix.rows, matrix.cols, matrix.todok())
+    return matrix if isinstance(matrix, sympy.ImmutableMatrix) else sympy.ImmutableMatrix(matrix)
+
+
+def _listed(names: Iterable[str]) -> str:
+    """Names for an error message: the first few, then how many in all."""
+    names = list(names)
+    if len(names) <= _LISTED:
+        return ", ".join(names)
+    return f"{', '.join(names[:_LISTED])}, ... ({len(names):,} in all)"
 
 
 @dataclass(frozen=True)
@@ -61,12 +185,48 @@ class Component:
 # ----------------------------------------------------------------------------
 
 
+class _Converter:
+    """:func:`to_exact` with the declared parameters, remembering the values of repeated
+    plain entries (text, int, float, Fraction): a scene file repeats "1" and "0" thousands
+    of times. Only successful conversions are remembered, so every error still names its
+    entry."""
+
+    _PLAIN = (str, int, float, Fraction)
+
+    def __init__(self, parameters: Parameters) -> None:
+        self.parameters = parameters
+        self.known: dict[tuple[type, Any], sympy.Expr] = {}
+
+    def __call__(self, value: Any, entry: str) -> sympy.Expr:
+        kind = type(value)
+        if kind not in self._PLAIN:
+            return to_exact(value, entry, parameters=self.parameters)
+        key = (kind, value)
+        known = self.known.get(key)
+        if known is None:
+            known = self.known[key] = to_exact(value, entry, parameters=self.parameters)
+        return known
+
+
+def _check_size(name: str, n: int, limit: int, what: str, hint: str) -> None:
+    if n > limit:
+        raise SceneError(f"{name}: {n:,} {what}, more than the limit {limit:,}{hint}")
+
+
+def _check_coordinates(name: str, n: int) -> None:
+    _check_size(name, n, MAX_COORDINATES, "coordinates", " (MAX_COORDINATES)")
+
+
 def _rows_of(value: Any, name: str) -> list[list[Any]]:
-    """The rows of a matrix given as nested sequences, a numpy array or a SymPy matrix."""
-    if isinstance(value, sympy.MatrixBase) or hasattr(value, "tolist"):
+    """The rows of a matrix given as nested sequences or a numpy array."""
+    shape = getattr(value, "shape", None)
+    if isinstance(shape, tuple) and shape:
+        _check_dense_input(name, int(shape[0]))
+    if hasattr(value, "tolist"):
         value = value.tolist()
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
         raise SceneError(f"{name}: expected a matrix (a list of rows), got {shown(value)}")
+    _check_dense_input(name, len(value))
     rows = [list(row) if isinstance(row, Sequence) and not isinstance(row, str) else row for row in value]
     for index, row in enumerate(rows):
         if not isinstance(row, list):
@@ -80,17 +240,43 @@ def _rows_of(value: Any, name: str) -> list[list[Any]]:
     return rows
 
 
-def _exact_matrix(value: Any, name: str, parameters: Parameters) -> sympy.ImmutableMatrix:
-    """An exact square matrix; each entry converted with the entry name ``name[i,j]``."""
+def _check_dense_input(name: str, n: int) -> None:
+    _check_size(name, n, MAX_MATRIX_INPUT_SIZE, "rows given entry by entry",
+                " (MAX_MATRIX_INPUT_SIZE); describe a larger scene by its masses, springs and "
+                "dashpots (Scene.from_components, or [masses] in a scene file), or give a SymPy "
+                "sparse matrix")
+
+
+def _matrix_shape(value: Any, name: str) -> tuple[int, int]:
+    """The shape of a matrix input, read without converting its entries."""
+    if isinstance(value, sympy.MatrixBase):
+        return value.shape
     rows = _rows_of(value, name)
-    if not rows or len(rows) != len(rows[0]):
-        columns = len(rows[0]) if rows else 0
-        raise SceneError(f"{name} must be a non-empty square matrix, got shape {len(rows)}x{columns}")
-    entries = [
-        [to_exact(entry, f"{name}[{i},{j}]", parameters=parameters) for j, entry in enumerate(row)]
-        for i, row in enumerate(rows)
-    ]
-    return sympy.ImmutableMatrix(entries)
+    return len(rows), len(rows[0]) if rows else 0
+
+
+def _exact_matrix(value: Any, name: str, convert: _Converter) -> Any:
+    """An exact square matrix; each entry converted with the entry name ``name[i,j]``.
+
+    A SymPy matrix is read from its nonzero entries; nested sequences and arrays entry by
+    entry (at most MAX_MATRIX_INPUT_SIZE rows).
+    """
+    if isinstance(value, sympy.MatrixBase):
+        rows, cols = value.shape
+        _check_coordinates(name, rows)
+        given = sorted(value.todok().items(), key=_position)
+    else:
+        table = _rows_of(value, name)
+        rows, cols = len(table), len(table[0]) if table else 0
+        given = [((i, j), entry) for i, row in enumerate(table) for j, entry in enumerate(row)]
+    if not rows or rows != cols:
+        raise SceneError(f"{name} must be a non-empty square matrix, got shape {rows}x{cols}")
+    entries: Entries = {}
+    for (i, j), entry in given:
+        exact = convert(entry, f"{name}[{i},{j}]")
+        if exact is not sympy.S.Zero:
+            entries[(i, j)] = exact
+    return _from_entries(rows, cols, entries)
 
 
 def _flat_entries(value: Any, name: str) -> list[Any]:
@@ -109,14 +295,12 @@ def _flat_entries(value: Any, name: str) -> list[Any]:
     raise SceneError(f"{name}: expected a vector (flat, one column or one row), got {shown(value)}")
 
 
-def _exact_vector(value: Any, name: str, size: int, parameters: Parameters) -> sympy.ImmutableMatrix:
+def _exact_vector(value: Any, name: str, size: int, convert: _Converter) -> sympy.ImmutableMatrix:
     """An exact ``size`` x 1 column; entries named ``name[i]``."""
     entries = _flat_entries(value, name)
     if len(entries) != size:
         raise SceneError(f"{name} has {len(entries)} entries, expected {size} (one per coordinate)")
-    return sympy.ImmutableMatrix(
-        [to_exact(entry, f"{name}[{i}]", parameters=parameters) for i, entry in enumerate(entries)]
-    )
+    return sympy.ImmutableMatrix([convert(entry, f"{name}[{i}]") for i, entry in enumerate(entries)])
 
 
 # ----------------------------------------------------------------------------
@@ -137,56 +321,193 @@ def _check_column(name: str, shape: tuple[int, int], n: int) -> None:
                          f"got shape {shape[0]}x{shape[1]}")
 
 
-def _check_finite(name: str, matrix: sympy.MatrixBase) -> None:
-    for index, entry in enumerate(matrix):
-        if not isinstance(entry, sympy.Expr) or entry.has(*_NON_FINITE):
-            i, j = divmod(index, matrix.cols)
-            raise SceneError(f"{name}[{i},{j}] must be a finite number, got {entry!r}")
+def _first(entries: Entries, bad: Callable[[Any], bool]) -> tuple[tuple[int, int], Any] | None:
+    """The first entry (in row-major order) for which ``bad`` holds, or None."""
+    found = [key for key, entry in entries.items() if bad(entry)]
+    return (min(found), entries[min(found)]) if found else None
 
 
-def _check_time_free(scene: Scene) -> None:
+def _not_finite(entry: Any) -> bool:
+    if isinstance(entry, sympy.Rational):
+        return False
+    return not isinstance(entry, sympy.Expr) or entry.has(*_NON_FINITE)
+
+
+def _has_time(entry: Any) -> bool:
+    return not isinstance(entry, sympy.Rational) and entry.has(TIME)
+
+
+def _check_finite(name: str, entries: Entries) -> None:
+    first = _first(entries, _not_finite)
+    if first is not None:
+        (i, j), entry = first
+        raise SceneError(f"{name}[{i},{j}] must be a finite number, got {shown(entry)}")
+
+
+def _check_time_free(entries: Mapping[str, Entries]) -> None:
     """M, C, K, x0 and v0 are constants: the time ``t`` may appear only in ``forcing``."""
     for field in ("M", "C", "K", "x0", "v0"):
-        matrix = getattr(scene, field)
-        for index, entry in enumerate(matrix):
-            if entry.has(TIME):
-                i, j = divmod(index, matrix.cols)
-                where = f"{field}[{i},{j}]" if field in ("M", "C", "K") else f"{field}[{index}]"
-                raise SceneError(f"{where}: the time t may appear only in forcing, got {entry}")
+        first = _first(entries[field], _has_time)
+        if first is not None:
+            (i, j), entry = first
+            where = f"{field}[{i},{j}]" if field in ("M", "C", "K") else f"{field}[{i}]"
+            raise SceneError(f"{where}: the time t may appear only in forcing, got {entry}")
 
 
-def _check_diagonal_masses(M: sympy.MatrixBase) -> None:
+def _is_diagonal(entries: Entries) -> bool:
+    return all(i == j for i, j in entries)
+
+
+def _check_diagonal_masses(entries: Entries) -> None:
     """The diagonal of M (the masses) is nonnegative; a zero is a massless node."""
-    for i in range(M.rows):
-        mass = M[i, i]
+    for i in sorted(i for i, j in entries if i == j):
+        mass = entries[(i, i)]
         if mass.is_nonnegative is False:
             raise SceneError(
                 f"mass M[{i},{i}] must be positive, got {mass}; 0 is allowed for a massless node"
             )
 
 
-def _check_numeric_mass_matrix(M: sympy.MatrixBase) -> None:
-    """Symmetric M: positive semi-definite (exact LDLᵀ with diagonal pivoting)."""
-    if not M.is_symmetric():
+def _is_symmetric(entries: Entries) -> bool:
+    for (i, j), value in entries.items():
+        other = entries.get((j, i), sympy.S.Zero)
+        if value != other and (value.is_Rational and other.is_Rational
+                               or sympy.simplify(value - other) != 0):
+            return False
+    return True
+
+
+def _clearly_positive_definite(n: int, entries: Entries) -> bool:
+    """Whether float64 eigenvalues prove a numeric symmetric M positive definite.
+
+    |λ(M) − λ(float(M))| is at most the rounding of the entries plus the backward error
+    of the symmetric eigensolver, both below 1e-12·‖M‖_F for n ≤ 2,000; a smallest
+    computed eigenvalue above 1e-10·‖M‖_F leaves a wide margin. Otherwise (nearly
+    singular, indefinite, large) the exact factorisation decides.
+    """
+    if n > _FLOAT_CHECK_MAX:
+        return False
+    dense = numpy.zeros((n, n))
+    for (i, j), value in entries.items():
+        dense[i, j] = float(value)
+    if not numpy.all(numpy.isfinite(dense)):
+        return False
+    size = float(numpy.linalg.norm(dense))
+    return bool(numpy.isfinite(size) and numpy.linalg.eigvalsh(dense)[0] > 1e-10 * size)
+
+
+def _check_numeric_mass_matrix(M: sympy.MatrixBase, entries: Entries) -> None:
+    """Symmetric M: positive semi-definite (exact LDLᵀ with diagonal pivoting).
+
+    The factorisation works on the nonzero entries, rows as dictionaries: its cost
+    follows the fill-in (none for a diagonal or banded M).
+    """
+    if not _is_symmetric(entries):
         return  # only the pencil's regularity is required (checked by the caller)
-    _check_diagonal_masses(M)
-    work = sympy.Matrix(M)
-    rest = list(range(M.rows))
-    while rest:
-        k = max(rest, key=lambda i: work[i, i])
-        pivot = work[k, k]
-        if pivot < 0 or (pivot == 0 and any(work[i, j] != 0 for i in rest for j in rest)):
+    _check_diagonal_masses(entries)
+    if _clearly_positive_definite(M.rows, entries):
+        return
+    exact: Callable[[sympy.Expr], Any]
+    if all(value.is_Rational for value in entries.values()):
+        exact = _fraction  # the same values, faster arithmetic
+    else:
+        exact = _same
+    rows: dict[int, dict[int, Any]] = {i: {} for i in range(M.rows)}
+    for (i, j), value in entries.items():
+        rows[i][j] = exact(value)
+    diagonal = {i: row.get(i, 0) for i, row in rows.items()}
+    heap = [(-value, i) for i, value in diagonal.items()]
+    heapq.heapify(heap)
+    while rows:
+        negative, k = heapq.heappop(heap)
+        if k not in rows or diagonal[k] != -negative:
+            continue  # an outdated entry
+        pivot = diagonal[k]
+        if pivot < 0 or (pivot == 0 and any(rows.values())):
+            where = f"M = {M.tolist()}" if M.rows <= 8 else f"the {M.rows}x{M.rows} M"
             raise SceneError(
                 f"M must be symmetric positive semi-definite, but it is indefinite "
-                f"(a pivot {pivot} remains in its LDLᵀ factorisation) for M = {M.tolist()}"
+                f"(a pivot {pivot} remains in its LDLᵀ factorisation) for {where}"
             )
         if pivot == 0:
             return
-        rest.remove(k)
-        for i in rest:
-            factor = work[i, k] / pivot
-            for j in rest:
-                work[i, j] -= factor * work[k, j]
+        row = rows.pop(k)
+        others = [(j, value) for j, value in row.items() if j != k]
+        for i, below in others:
+            target = rows[i]
+            target.pop(k, None)
+            factor = below / pivot
+            for j, value in others:
+                updated = target.get(j, 0) - factor * value
+                if updated == 0:
+                    target.pop(j, None)
+                else:
+                    target[j] = updated
+            diagonal[i] = target.get(i, 0)
+            heapq.heappush(heap, (-diagonal[i], i))
+
+
+def _fraction(value: sympy.Expr) -> Fraction:
+    return Fraction(int(value.p), int(value.q))
+
+
+def _same(value: sympy.Expr) -> sympy.Expr:
+    return value
+
+
+def _full_rank(n: int, entries: Mapping[tuple[int, int], sympy.Expr],
+               generic: Mapping[sympy.Symbol, sympy.Rational]) -> bool:
+    """Whether the n x n matrix of these entries, symbols at ``generic``, is nonsingular.
+
+    Sparse elimination modulo two primes near 2⁶¹ (:data:`_PRIMES`), without the growth
+    of exact fractions: full rank modulo a prime proves full rank over the rationals; a
+    deficit modulo both is taken as singular (wrong only if both primes divide the
+    determinant's numerator). Entries that are not rational are settled by exact
+    elimination.
+    """
+    rows: dict[int, dict[int, sympy.Expr]] = {}
+    for (i, j), given in entries.items():
+        value = given.xreplace(generic) if given.free_symbols else given
+        if value != 0:
+            rows.setdefault(i, {})[j] = value
+    if len(rows) < n:
+        return False  # a zero row
+    ranks = [_rank_modulo(prime, n, rows) for prime in _PRIMES]
+    if None not in ranks:
+        return n in ranks
+    return bool(DomainMatrix.from_dict_sympy(n, n, rows).rank() == n)
+
+
+#: The primes of :func:`_rank_modulo`: 2⁶¹ − 1 and the largest prime below 2⁶⁰.
+_PRIMES = (2**61 - 1, int(sympy.prevprime(2**60)))
+
+
+def _rank_modulo(prime: int, n: int, rows: Mapping[int, Mapping[int, sympy.Expr]]) -> int | None:
+    """The rank of a rational matrix's image modulo ``prime`` (at most its rank over ℚ);
+    None when an entry is not rational or has a denominator divisible by the prime."""
+    field = GF(prime)
+    reduced: dict[int, dict[int, Any]] = {}
+    for i, row in rows.items():
+        target = reduced[i] = {}
+        for j, value in row.items():
+            if not value.is_Rational or value.q % prime == 0:
+                return None
+            target[j] = field(int(value.p) * pow(int(value.q), -1, prime))
+    return int(DomainMatrix(reduced, (n, n), field).rank())
+
+
+def _pencil_points(n: int, sparse: bool) -> list[sympy.Rational]:
+    count = min(2 * n + 1, _SPARSE_PENCIL_POINTS) if sparse else 2 * n + 1
+    return [sympy.Rational(3 + 2 * point, 7) for point in range(count)]
+
+
+def _pencil_at(value: sympy.Rational, M: Any, C: Any, K: Any) -> Entries:
+    """The nonzero entries of λ²M + λC + K at λ = ``value``."""
+    terms: dict[tuple[int, int], list[sympy.Expr]] = {}
+    for scale, matrix in ((value**2, M), (value, C), (sympy.S.One, K)):
+        for key, entry in matrix.todok().items():
+            terms.setdefault(key, []).append(scale * entry)
+    return {key: sympy.Add(*parts) for key, parts in terms.items()}
 
 
 def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> bool:
@@ -194,21 +515,60 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
 
     Δ has degree ≤ 2n, so it vanishes identically iff it vanishes at 2n + 1 rational
     points; symbols get fixed generic values first, and only if all those points give
-    zero is the symbolic determinant formed.
+    zero is the symbolic determinant formed. A scene of more than
+    DENSE_STORAGE_MAX_COORDINATES coordinates is tried at three points by sparse exact
+    elimination, and its pencil taken as singular if all three give zero.
     """
     symbols = sorted(M.free_symbols | C.free_symbols | K.free_symbols, key=lambda s: s.name)
     generic = generic_values(symbols)
-    for point in range(2 * M.rows + 1):
-        value = sympy.Rational(3 + 2 * point, 7)
+    sparse = M.rows > DENSE_STORAGE_MAX_COORDINATES
+    for value in _pencil_points(M.rows, sparse):
+        if sparse:
+            if _full_rank(M.rows, _pencil_at(value, M, C, K), generic):
+                return True
+            continue
         pencil = (value**2 * M + value * C + K).xreplace(generic)
         if DomainMatrix.from_Matrix(sympy.Matrix(pencil)).det() != 0:
             return True
         if symbols:
             break
-    if not symbols:
+    if not symbols or sparse:
         return False
     lam = sympy.Dummy("lambda")
     return sympy.cancel(sympy.Matrix(lam**2 * M + lam * C + K).det(method="berkowitz")) != 0
+
+
+def _common_null_vector(M: Any, C: Any, K: Any) -> list[sympy.Expr] | None:
+    """A nonzero v with Mv = Cv = Kv = 0, or None.
+
+    Scenes of more than DENSE_STORAGE_MAX_COORDINATES coordinates: only for a diagonal M,
+    whose null vectors live on the massless coordinates z (the columns z of C and K are
+    searched, symbols at generic values); None otherwise.
+    """
+    if M.rows <= DENSE_STORAGE_MAX_COORDINATES:
+        null = sympy.Matrix.vstack(sympy.Matrix(M), sympy.Matrix(C), sympy.Matrix(K)).nullspace()
+        return list(null[0]) if null else None
+    masses = M.todok()
+    if not _is_diagonal(masses):
+        return None
+    massless = [i for i in range(M.rows) if (i, i) not in masses]
+    if not massless:
+        return None
+    column = {j: position for position, j in enumerate(massless)}
+    generic = generic_values(C.free_symbols | K.free_symbols)
+    rows: dict[tuple[str, int], dict[int, sympy.Expr]] = {}
+    for name, matrix in (("C", C), ("K", K)):
+        for (i, j), value in matrix.todok().items():
+            if j in column:
+                rows.setdefault((name, i), {})[column[j]] = value.xreplace(generic)
+    table = dict(enumerate(rows.values()))
+    basis = DomainMatrix.from_dict_sympy(max(len(table), 1), len(massless), table).nullspace()
+    if basis.shape[0] == 0:
+        return None
+    vector = [sympy.S.Zero] * M.rows
+    for position, value in enumerate(basis.to_Matrix().row(0)):
+        vector[massless[position]] = value
+    return vector
 
 
 def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> str:
@@ -217,29 +577,45 @@ def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.
         "the pencil λ²M + λC + K is singular: det(λ²M + λC + K) is identically zero, so the "
         "motion is not determined by the equations"
     )
-    null = sympy.Matrix.vstack(sympy.Matrix(M), sympy.Matrix(C), sympy.Matrix(K)).nullspace()
-    if not null:
+    null = _common_null_vector(M, C, K)
+    if null is None:
+        if M.rows > DENSE_STORAGE_MAX_COORDINATES:
+            points = ", ".join(str(point) for point in _pencil_points(M.rows, True))
+            return (f"{text} (it vanishes at λ = {points}, where a scene of more than "
+                    f"DENSE_STORAGE_MAX_COORDINATES = {DENSE_STORAGE_MAX_COORDINATES} coordinates "
+                    "is tried)")
         return text
-    vector = null[0] / next(entry for entry in null[0] if entry != 0)
+    pivot = next(entry for entry in null if entry != 0)
+    vector = [entry / pivot for entry in null]
     coordinates = [i for i, entry in enumerate(vector) if entry != 0]
     if len(coordinates) == 1:
         return f"{text}; coordinate {coordinates[0]} has no mass and no spring or dashpot acting on it"
+    if len(vector) > 8:
+        return (f"{text}; the motion {shown([vector[i] for i in coordinates])} of coordinates "
+                f"{shown(coordinates)} (the others at rest) meets no mass, dashpot or spring")
     return (
-        f"{text}; the motion along {list(vector)} (coordinates {coordinates}) meets no mass, "
+        f"{text}; the motion along {vector} (coordinates {coordinates}) meets no mass, "
         "dashpot or spring"
     )
 
 
-def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> None:
-    """M: nonnegative masses / positive semi-definite; if singular, a regular pencil."""
-    if M.is_diagonal():
-        _check_diagonal_masses(M)
-        singular = any(M[i, i].is_zero is not False for i in range(M.rows))
-    elif not M.free_symbols:
-        _check_numeric_mass_matrix(M)
-        singular = M.det() == 0
+def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase,
+                       entries: Entries) -> None:
+    """M (nonzero ``entries``): nonnegative masses / positive semi-definite; if singular, a
+    regular pencil."""
+    if _is_diagonal(entries):
+        _check_diagonal_masses(entries)
+        zero = sympy.S.Zero
+        singular = any(entries.get((i, i), zero).is_zero is not False for i in range(M.rows))
     else:
-        singular = sympy.cancel(M.det()) == 0
+        if not M.free_symbols:
+            _check_numeric_mass_matrix(M, entries)
+        if M.rows > DENSE_STORAGE_MAX_COORDINATES:
+            singular = not _full_rank(M.rows, entries, generic_values(M.free_symbols))
+        elif not M.free_symbols:
+            singular = M.det() == 0
+        else:
+            singular = sympy.cancel(M.det()) == 0
     if singular and not _pencil_is_regular(M, C, K):
         raise SceneError(_singular_pencil_message(M, C, K))
 
@@ -248,9 +624,9 @@ def _check_names(names: tuple[str, ...], n: int) -> None:
     if len(names) != n:
         raise SceneError(f"names has {len(names)} entries, expected {n} (one per coordinate)")
     if not all(isinstance(name, str) and name for name in names):
-        raise SceneError(f"names must be non-empty strings, got {names!r}")
+        raise SceneError(f"names must be non-empty strings, got {shown(names)}")
     if len(set(names)) != n:
-        raise SceneError(f"names must be distinct, got {names!r}")
+        raise SceneError(f"names must be distinct, got {shown(names)}")
 
 
 def _default_names(n: int) -> tuple[str, ...]:
@@ -277,17 +653,31 @@ def _pairs(items: Mapping[str, Any] | Iterable[Sequence[Any]], what: str,
     return pairs
 
 
+def _check_counts(masses: Any, springs: Any, dashpots: Any) -> None:
+    """MAX_COORDINATES and MAX_COMPONENTS, for inputs whose length is known, before any work."""
+    if isinstance(masses, (Mapping, Sequence)):
+        _check_size("masses", len(masses), MAX_COORDINATES, "masses", " (MAX_COORDINATES)")
+    sizes = [len(items) for items in (springs, dashpots) if isinstance(items, (Mapping, Sequence))]
+    _check_components(sum(sizes))
+
+
+def _check_components(count: int) -> None:
+    _check_size("springs and dashpots", count, MAX_COMPONENTS, "components", " (MAX_COMPONENTS)")
+
+
 def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]],
-                  parameters: Parameters) -> dict[str, sympy.Expr]:
+                  convert: _Converter) -> dict[str, sympy.Expr]:
     parsed: dict[str, sympy.Expr] = {}
-    for name, value in _pairs(masses, "masses", 1):
+    pairs = _pairs(masses, "masses", 1)
+    _check_size("masses", len(pairs), MAX_COORDINATES, "masses", " (MAX_COORDINATES)")
+    for name, value in pairs:
         if not isinstance(name, str) or not name:
             raise SceneError(f"mass names must be non-empty strings, got {shown(name)}")
         if name.lower() in SUPPORTS:
             raise SceneError(f"mass name {name!r} is reserved for a fixed support")
         if name in parsed:
             raise SceneError(f"mass {name!r} is given twice")
-        mass = to_exact(value, f"mass {name!r}", parameters=parameters)
+        mass = convert(value, f"mass {name!r}")
         if mass.is_nonnegative is False:
             raise SceneError(f"mass {name!r} must be positive, got {mass}; 0 is allowed for a massless node")
         parsed[name] = mass
@@ -303,13 +693,13 @@ def _node(node: Any, label: str, kind: str, masses: Mapping[str, sympy.Expr]) ->
             return node
         if node.lower() in SUPPORTS:
             return node.lower()
-    known = ", ".join(masses)
+    known = _listed(masses)
     supports = ", ".join(sorted(SUPPORTS))
     raise SceneError(f"{kind} {label!r}: unknown node {shown(node)}; known masses: {known}; supports: {supports}")
 
 
 def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr],
-               parameters: Parameters) -> Component:
+               convert: _Converter) -> Component:
     if not isinstance(label, str) or not label:
         raise SceneError(f"{kind} labels must be non-empty strings, got {shown(label)}")
     if isinstance(spec, str) or not isinstance(spec, Sequence) or len(spec) != 3:
@@ -319,7 +709,7 @@ def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr
         raise SceneError(f"{kind} {label!r} connects {a!r} to itself")
     if a in SUPPORTS and b in SUPPORTS:
         raise SceneError(f"{kind} {label!r} connects two supports ({a!r}, {b!r}); it would carry no motion")
-    value = to_exact(spec[2], f"{kind} {label!r}", parameters=parameters)
+    value = convert(spec[2], f"{kind} {label!r}")
     if value.is_negative:
         quantity = "stiffness" if kind == "spring" else "damping"
         raise SceneError(f"{kind} {label!r}: {quantity} must be nonnegative, got {value}")
@@ -327,31 +717,50 @@ def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr
 
 
 def _parse_components(
-    springs: Any, dashpots: Any, masses: Mapping[str, sympy.Expr], parameters: Parameters
+    springs: Any, dashpots: Any, masses: Mapping[str, sympy.Expr], convert: _Converter
 ) -> tuple[Component, ...]:
     components: list[Component] = []
-    for kind, items in (("spring", springs), ("dashpot", dashpots)):
-        for label, spec in _pairs(items, f"{kind}s", 3):
-            if any(existing.label == label for existing in components):
+    labels: set[Any] = set()
+    given = [(kind, _pairs(items, f"{kind}s", 3)) for kind, items in (("spring", springs), ("dashpot", dashpots))]
+    _check_components(sum(len(pairs) for _, pairs in given))
+    for kind, pairs in given:
+        for label, spec in pairs:
+            if _hashable(label) and label in labels:
                 raise SceneError(f"component label {label!r} is used twice")
-            components.append(_component(kind, label, spec, masses, parameters))
+            component = _component(kind, label, spec, masses, convert)
+            labels.add(component.label)
+            components.append(component)
     return tuple(components)
 
 
-def _assemble(components: Iterable[Component], kind: str, index: Mapping[str, int]) -> sympy.ImmutableMatrix:
-    """Stiffness (springs) or damping (dashpots) matrix of the components of ``kind``."""
-    matrix = sympy.zeros(len(index), len(index))
+def _hashable(value: Any) -> bool:
+    try:
+        hash(value)
+    except TypeError:
+        return False
+    return True
+
+
+def _assemble(components: Iterable[Component], kind: str, index: Mapping[str, int]) -> Any:
+    """Stiffness (springs) or damping (dashpots) matrix of the components of ``kind``.
+
+    A component ``k`` between coordinates i and j adds ``k`` to entries (i, i) and (j, j)
+    and ``-k`` to (i, j) and (j, i); to a support, ``k`` to (i, i) only. The terms of each
+    entry are summed once, so many components on one entry cost linear time.
+    """
+    terms: dict[tuple[int, int], list[sympy.Expr]] = {}
     for component in components:
         if component.kind != kind:
             continue
         ends = [index[node] for node in (component.a, component.b) if node in index]
         for i in ends:
-            matrix[i, i] += component.value
+            terms.setdefault((i, i), []).append(component.value)
         if len(ends) == 2:
             i, j = ends
-            matrix[i, j] -= component.value
-            matrix[j, i] -= component.value
-    return sympy.ImmutableMatrix(matrix)
+            terms.setdefault((i, j), []).append(-component.value)
+            terms.setdefault((j, i), []).append(-component.value)
+    entries = {key: parts[0] if len(parts) == 1 else sympy.Add(*parts) for key, parts in terms.items()}
+    return _from_entries(len(index), len(index), entries)  # zero sums are left out there
 
 
 def _initial_by_mass(value: Any, name: str, mass_names: Sequence[str]) -> Any:
@@ -360,9 +769,10 @@ def _initial_by_mass(value: Any, name: str, mass_names: Sequence[str]) -> Any:
         return [0] * len(mass_names)
     if not isinstance(value, Mapping):
         return value
-    unknown = [key for key in value if key not in mass_names]
+    known = set(mass_names)
+    unknown = [key for key in value if key not in known]
     if unknown:
-        raise SceneError(f"{name}: unknown mass {unknown[0]!r}; masses are {', '.join(mass_names)}")
+        raise SceneError(f"{name}: unknown mass {shown(unknown[0])}; masses are {_listed(mass_names)}")
     return [value.get(mass, 0) for mass in mass_names]
 
 
@@ -377,13 +787,18 @@ class Scene:
 
     Build one with :meth:`from_matrices`, :meth:`from_normalized` or
     :meth:`from_components`; the constructor itself expects exact
-    ``sympy.ImmutableMatrix`` data and checks shapes and masses.
+    ``sympy.ImmutableMatrix`` (or ``ImmutableSparseMatrix``) data, checks shapes and
+    masses, and stores ``M``, ``C``, ``K`` as the scene's size calls for.
 
     Attributes
     ----------
-    M, C, K : sympy.ImmutableMatrix
+    M, C, K : sympy.ImmutableMatrix or ExactSparseMatrix
         Mass, damping and stiffness matrices, n x n, exact. ``C`` and ``K`` are
-        zero matrices when there is no damping or no stiffness.
+        zero matrices when there is no damping or no stiffness. Dense
+        ``sympy.ImmutableMatrix`` up to :data:`DENSE_STORAGE_MAX_COORDINATES`
+        coordinates, :class:`ExactSparseMatrix` (a ``sympy.ImmutableSparseMatrix``)
+        beyond; the constructor converts to the storage the size calls for. Read their
+        nonzero entries with ``.todok()``: it costs time in proportion to them.
     x0, v0 : sympy.ImmutableMatrix
         Initial displacements and velocities, n x 1.
     names : tuple of str
@@ -441,29 +856,38 @@ class Scene:
 
     def __post_init__(self) -> None:
         for field in ("M", "C", "K", "x0", "v0"):
-            if not isinstance(getattr(self, field), sympy.ImmutableMatrix):
+            if not isinstance(getattr(self, field), ImmutableRepMatrix):
                 raise SceneError(
-                    f"{field} must be a sympy.ImmutableMatrix; use Scene.from_matrices to convert"
+                    f"{field} must be a sympy.ImmutableMatrix (or ImmutableSparseMatrix); "
+                    "use Scene.from_matrices to convert"
                 )
         n = self.M.rows
         if n == 0 or self.M.cols != n:
             raise SceneError(f"M must be a non-empty square matrix, got shape {self.M.rows}x{self.M.cols}")
+        _check_coordinates("M", n)
+        _check_components(len(self.components))
         for field in ("C", "K"):
             _check_shape(field, getattr(self, field).shape, (n, n), "M")
         for field in ("x0", "v0"):
             _check_column(field, getattr(self, field).shape, n)
+        for field in ("M", "C", "K"):
+            object.__setattr__(self, field, _stored(getattr(self, field), n))
+        for field in ("x0", "v0"):
+            if not isinstance(getattr(self, field), sympy.ImmutableMatrix):
+                object.__setattr__(self, field, sympy.ImmutableMatrix(getattr(self, field)))
+        entries = {field: getattr(self, field).todok() for field in ("M", "C", "K", "x0", "v0")}
         for field in ("M", "C", "K", "x0", "v0"):
-            _check_finite(field, getattr(self, field))
-        _check_mass_matrix(self.M, self.C, self.K)
+            _check_finite(field, entries[field])
+        _check_time_free(entries)
+        _check_mass_matrix(self.M, self.C, self.K, entries["M"])
         if isinstance(self.names, str):
             raise SceneError(f"names must be a sequence of strings, got {self.names!r}")
         object.__setattr__(self, "names", tuple(self.names))
         _check_names(self.names, n)
         if self.layout not in LAYOUTS:
-            raise SceneError(f"layout must be one of {', '.join(LAYOUTS)}, got {self.layout!r}")
+            raise SceneError(f"layout must be one of {', '.join(LAYOUTS)}, got {shown(self.layout)}")
         if self.mass_names and len(self.mass_names) != n:
             raise SceneError(f"mass_names has {len(self.mass_names)} entries, expected {n}")
-        _check_time_free(self)
         if self.forcing is not None:
             _check_column("forcing", self.forcing.shape, n)
         declared = declare_parameters(self.parameters, self.M, self.C, self.K, self.x0, self.v0,
@@ -486,7 +910,7 @@ class Scene:
     @property
     def is_damped(self) -> bool:
         """Whether ``C`` has a nonzero entry."""
-        return any(entry != 0 for entry in self.C)
+        return any(entry != 0 for entry in self.C.todok().values())
 
     @property
     def is_forced(self) -> bool:
@@ -517,7 +941,8 @@ class Scene:
         Returns
         -------
         A, B : sympy.ImmutableMatrix
-            So that the system reads ``x'' + B x' + A x = 0``.
+            So that the system reads ``x'' + B x' + A x = 0``
+            (:class:`ExactSparseMatrix` for a scene stored sparse, which needs a diagonal M).
 
         Examples
         --------
@@ -527,10 +952,13 @@ class Scene:
         >>> A.tolist(), B.tolist()
         ([[2, -1], [-1/2, 1/2]], [[1/5, 0], [0, 1/5]])
         """
+        entries = self.M.todok()
+        if self.n > DENSE_STORAGE_MAX_COORDINATES:
+            return self._sparse_normalized(entries)
         if self.M.det() == 0:
             raise SceneError("the normalised form x'' + B x' + A x = 0 needs an invertible M; "
                              "this scene has massless nodes (M is singular)")
-        if self.M.is_diagonal():
+        if _is_diagonal(entries):
             inverse = sympy.diag(*[1 / self.M[i, i] for i in range(self.n)])
         else:
             inverse = self.M.inv()
@@ -538,6 +966,23 @@ class Scene:
         A = (inverse * self.K).applyfunc(simplify)
         B = (inverse * self.C).applyfunc(simplify)
         return sympy.ImmutableMatrix(A), sympy.ImmutableMatrix(B)
+
+    def _sparse_normalized(self, entries: Entries) -> tuple[Any, Any]:
+        """(M⁻¹K, M⁻¹C) of a large scene with a diagonal M, row by row."""
+        masses = {i: value for (i, j), value in entries.items() if i == j}
+        if not _is_diagonal(entries) or len(masses) < self.n \
+                or any(mass.is_zero is not False for mass in masses.values()):
+            raise SceneError(
+                f"the normalised form of a scene of {self.n} coordinates (more than "
+                f"DENSE_STORAGE_MAX_COORDINATES = {DENSE_STORAGE_MAX_COORDINATES}) needs a diagonal "
+                "M with nonzero masses; this scene's M is not diagonal or has massless nodes")
+        simplify = sympy.cancel if self.M.free_symbols else _same
+
+        def scaled(matrix: Any) -> Any:
+            rows = {key: simplify(value / masses[key[0]]) for key, value in matrix.todok().items()}
+            return _from_entries(self.n, self.n, rows)
+
+        return scaled(self.K), scaled(self.C)
 
     def with_initial(self, *, x0: Any = None, v0: Any = None) -> Scene:
         """A new scene with other initial data; ``None`` keeps the current value.
@@ -558,7 +1003,8 @@ class Scene:
         changes = {}
         for name, value in (("x0", x0), ("v0", v0)):
             if value is not None:
-                changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n, declared)
+                changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n,
+                                              _Converter(declared))
         return dataclasses.replace(self, **changes)
 
     def with_forcing(self, forcing: Any) -> Scene:
@@ -614,7 +1060,10 @@ class Scene:
         mapping = self._substitution(values)
         remaining = [symbol for symbol in self.parameters if symbol not in mapping]
 
-        def apply(matrix: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
+        def apply(matrix: Any) -> Any:
+            if isinstance(matrix, ExactSparseMatrix):
+                replaced = {key: value.xreplace(mapping) for key, value in matrix.todok().items()}
+                return _from_entries(matrix.rows, matrix.cols, replaced)
             return sympy.ImmutableMatrix(matrix.xreplace(mapping))
 
         components = tuple(dataclasses.replace(component, value=component.value.xreplace(mapping))
@@ -669,8 +1118,11 @@ class Scene:
         Parameters
         ----------
         M : matrix-like
-            Mass matrix, n x n: nested lists/tuples, a numpy array or a SymPy matrix.
-            Entries are numbers or text (see :func:`laplace_springs.model.numbers.to_exact`).
+            Mass matrix, n x n: nested lists/tuples or a numpy array (at most
+            :data:`MAX_MATRIX_INPUT_SIZE` rows: every entry is read), or a SymPy matrix
+            (dense or sparse, at most :data:`MAX_COORDINATES` rows: its nonzero entries
+            are read). Entries are numbers or text (see
+            :func:`laplace_springs.model.numbers.to_exact`).
         C, K : matrix-like, optional
             Damping and stiffness matrices; zero when omitted. Need not be symmetric.
         x0, v0 : vector-like
@@ -701,9 +1153,11 @@ class Scene:
         SceneError
             For a non-square or empty ``M``, mismatched shapes, a wrong vector length,
             non-finite or non-numeric entries, an undeclared name, a number beyond the
-            limits of :mod:`laplace_springs.model.numbers`, a negative mass, an indefinite symmetric
-            ``M``, or a singular pencil (det(λ²M + λC + K) identically zero). A zero mass
-            is allowed: it is a massless node (see :attr:`Solution.initial_jump`).
+            limits of :mod:`laplace_springs.model.numbers`, a size beyond
+            :data:`MAX_MATRIX_INPUT_SIZE` or :data:`MAX_COORDINATES` (before any entry
+            is read), a negative mass, an indefinite symmetric ``M``, or a singular
+            pencil (det(λ²M + λC + K) identically zero). A zero mass is allowed: it is a
+            massless node (see :attr:`Solution.initial_jump`).
 
         Examples
         --------
@@ -720,17 +1174,20 @@ class Scene:
         ...
         laplace_springs.model.errors.SceneError: the pencil λ²M + λC + K is singular: ...; coordinate 1 has no mass and no spring or dashpot acting on it
         """
+        shape = _matrix_shape(M, "M")  # sizes first: nothing is converted beyond the limits
+        _check_coordinates("M", shape[0])
         declared = declare_parameters(parameters, M, C, K, x0, v0, forcing)
-        mass = _exact_matrix(M, "M", declared)
+        convert = _Converter(declared)
+        mass = _exact_matrix(M, "M", convert)
         n = mass.rows
-        damping = _optional_matrix(C, "C", mass, "M", declared)
-        stiffness = _optional_matrix(K, "K", mass, "M", declared)
+        damping = _optional_matrix(C, "C", mass, "M", convert)
+        stiffness = _optional_matrix(K, "K", mass, "M", convert)
         return cls(
             M=mass,
             C=damping,
             K=stiffness,
-            x0=_exact_vector(x0, "x0", n, declared),
-            v0=_exact_vector(v0, "v0", n, declared),
+            x0=_exact_vector(x0, "x0", n, convert),
+            v0=_exact_vector(v0, "v0", n, convert),
             names=_default_names(n) if names is None else tuple(names),
             title=title,
             layout=layout,
@@ -764,12 +1221,16 @@ class Scene:
         >>> scene.M.tolist(), scene.K.tolist()
         ([[1, 0], [0, 1]], [[3, -1], [-2, 2]])
         """
+        shape = _matrix_shape(A, "A")
+        _check_coordinates("A", shape[0])
         declared = declare_parameters(parameters, A, B, x0, v0, forcing)
-        stiffness = _exact_matrix(A, "A", declared)
+        convert = _Converter(declared)
+        stiffness = _exact_matrix(A, "A", convert)
         n = stiffness.rows
-        damping = _optional_matrix(B, "B", stiffness, "A", declared)
+        damping = _optional_matrix(B, "B", stiffness, "A", convert)
+        identity = _from_entries(n, n, {(i, i): sympy.S.One for i in range(n)})
         return cls.from_matrices(
-            M=sympy.eye(n), C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title,
+            M=identity, C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title,
             layout=layout, forcing=forcing, parameters=declared,
         )
 
@@ -818,8 +1279,10 @@ class Scene:
         SceneError
             For an unknown node, a component from a node to itself or between two
             supports, a negative stiffness or damping, a duplicate label or mass
-            name, a negative mass, or a singular pencil (a massless node with no spring
-            or dashpot). A mass of 0 is a massless node.
+            name, a negative mass, a singular pencil (a massless node with no spring
+            or dashpot), more than :data:`MAX_COORDINATES` masses or more than
+            :data:`MAX_COMPONENTS` springs and dashpots (before any value is read). A
+            mass of 0 is a massless node.
 
         Examples
         --------
@@ -833,18 +1296,21 @@ class Scene:
         >>> scene.C.tolist(), scene.K.tolist()
         ([[19/10, -7/5], [-7/5, 23/10]], [[779, -379], [-379, 479]])
         """
+        _check_counts(masses, springs, dashpots)
         declared = declare_parameters(parameters, masses, springs, dashpots, x0, v0, forcing)
-        mass_values = _parse_masses(masses, declared)
-        components = _parse_components(springs, dashpots, mass_values, declared)
+        convert = _Converter(declared)
+        mass_values = _parse_masses(masses, convert)
+        components = _parse_components(springs, dashpots, mass_values, convert)
         mass_names = tuple(mass_values)
         index = {name: i for i, name in enumerate(mass_names)}
         n = len(mass_names)
+        diagonal = {(i, i): mass for i, mass in enumerate(mass_values.values()) if mass != 0}
         return cls(
-            M=sympy.ImmutableMatrix(sympy.diag(*mass_values.values())),
+            M=_from_entries(n, n, diagonal),
             C=_assemble(components, "dashpot", index),
             K=_assemble(components, "spring", index),
-            x0=_exact_vector(_initial_by_mass(x0, "x0", mass_names), "x0", n, declared),
-            v0=_exact_vector(_initial_by_mass(v0, "v0", mass_names), "v0", n, declared),
+            x0=_exact_vector(_initial_by_mass(x0, "x0", mass_names), "x0", n, convert),
+            v0=_exact_vector(_initial_by_mass(v0, "v0", mass_names), "v0", n, convert),
             names=_default_names(n),
             title=title,
             layout=layout,
@@ -856,12 +1322,10 @@ class Scene:
         )
 
 
-def _optional_matrix(
-    value: Any, name: str, reference: sympy.ImmutableMatrix, reference_name: str, parameters: Parameters
-) -> sympy.ImmutableMatrix:
+def _optional_matrix(value: Any, name: str, reference: Any, reference_name: str,
+                     convert: _Converter) -> Any:
     """``value`` as an exact matrix of the shape of ``reference``; zeros when ``None``."""
     if value is None:
-        return sympy.ImmutableMatrix(sympy.zeros(*reference.shape))
-    rows = _rows_of(value, name)
-    _check_shape(name, (len(rows), len(rows[0]) if rows else 0), reference.shape, reference_name)
-    return _exact_matrix(rows, name, parameters)
+        return _from_entries(reference.rows, reference.cols, {})
+    _check_shape(name, _matrix_shape(value, name), reference.shape, reference_name)
+    return _exact_matrix(value, name, convert)

@@ -26,8 +26,16 @@ from flint import fmpq, fmpq_mat, fmpz_mat
 from ..model.errors import SceneError
 from ..model.scene import Scene
 
-__all__ = ["symbolic_entries", "float_matrix", "scene_arrays", "massless_nodes", "first_order_system", "RigidSplit",
-           "rigid_split", "is_rational", "has_first_order_form"]
+__all__ = ["NUMERIC_MAX_COORDINATES", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
+           "massless_nodes", "first_order_system", "RigidSplit", "rigid_split", "is_rational",
+           "has_first_order_form"]
+
+#: Largest scene (coordinates) the numeric routes take: they hold M, C, K as dense float64
+#: arrays and decompose the 2n x 2n first-order matrix four times (the motion and three
+#: perturbed copies for its error bound). Measured on damped chains, one core: 200
+#: coordinates 1 s, 400 6 s, 800 31 s; time grows like n³ and memory like n² (a 10,000-mass
+#: chain would need 6 GB per complex 2n x 2n array).
+NUMERIC_MAX_COORDINATES = 1_000
 
 
 def symbolic_entries(scene: Scene) -> list[str]:
@@ -35,22 +43,42 @@ def symbolic_entries(scene: Scene) -> list[str]:
 
     Examples
     --------
-    >>> symbolic_entries(Scene.from_matrices(M=[[1]], K=[["k"]], x0=["d"], v0=[0]))
+    >>> symbolic_entries(Scene.from_matrices(M=[[1]], K=[["k"]], x0=["d"], v0=[0],
+    ...                                      parameters=["k", "d"]))
     ['K[0,0] = k', 'x0[0] = d']
     """
     found = []
     for name in ("M", "C", "K", "x0", "v0"):
-        matrix = getattr(scene, name)
-        for index, entry in enumerate(matrix):
+        for (i, j), entry in sorted(getattr(scene, name).todok().items()):  # nonzero entries
             if entry.free_symbols:
-                i, j = divmod(index, matrix.cols)
                 label = f"{name}[{i}]" if name in ("x0", "v0") else f"{name}[{i},{j}]"
                 found.append(f"{label} = {entry}")
     return found
 
 
+def check_numeric_size(scene: Scene) -> None:
+    """A SceneError, at once, for a scene beyond :data:`NUMERIC_MAX_COORDINATES`.
+
+    Examples
+    --------
+    >>> check_numeric_size(Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0]))  # fine
+    """
+    if scene.n > NUMERIC_MAX_COORDINATES:
+        raise SceneError(
+            f"the numeric routes hold a scene as dense float64 matrices and decompose its 2n x 2n "
+            f"first-order matrix; this scene has n = {scene.n:,} coordinates, more than "
+            f"NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,} (800 take about 30 s on one "
+            f"core, and the time grows like n³). Solve a scene of at most "
+            f"{NUMERIC_MAX_COORDINATES:,} coordinates (a coarser model); routes for large sparse "
+            "scenes are planned")
+
+
 def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
     """An exact numeric matrix as float64, or a SceneError naming the first bad entry.
+
+    Reads the nonzero entries only (``todok``), so a sparse matrix converts in time
+    proportional to them; the result is dense, and a matrix of more than
+    (2·NUMERIC_MAX_COORDINATES)² entries is refused before it is allocated.
 
     Examples
     --------
@@ -61,8 +89,13 @@ def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
     ...
     laplace_springs.model.errors.SceneError: K[0,0] = k is symbolic; give numbers for a numeric evaluation
     """
+    rows, cols = matrix.shape
+    if rows * cols > (2 * NUMERIC_MAX_COORDINATES) ** 2:
+        raise SceneError(f"{name} is {rows:,} x {cols:,}: more entries than a dense float64 array of "
+                         f"the numeric routes holds ((2·NUMERIC_MAX_COORDINATES)², "
+                         f"NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,})")
     out = np.zeros(matrix.shape)
-    for (i, j), entry in matrix.todok().items():
+    for (i, j), entry in sorted(matrix.todok().items()):
         if entry.free_symbols:
             raise SceneError(f"{name}[{i},{j}] = {entry} is symbolic; give numbers for a "
                              "numeric evaluation")
@@ -84,6 +117,7 @@ def scene_arrays(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
     >>> M, K, x0
     (array([[2.]]), array([[8.]]), array([1.]))
     """
+    check_numeric_size(scene)
     M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
     x0, v0 = (float_matrix(getattr(scene, name).T, name).ravel() for name in ("x0", "v0"))
     return M, C, K, x0, v0
@@ -247,6 +281,7 @@ def rigid_split(scene: Scene) -> RigidSplit | None:
     """
     if not is_rational(scene) or massless_nodes(scene):
         return None
+    check_numeric_size(scene)  # before the dense n x n matrices below
     M, C, K = (_fmpq_mat(getattr(scene, name)) for name in ("M", "C", "K"))
     right = _nullspace(K, C)
     if right.ncols() == 0:  # the common case: no rigid motion

@@ -281,7 +281,7 @@ def test_symbolic_full_mass_matrix_is_accepted_and_normalized():
         ({"M": [[1]], "K": [["nan"]]}, r"K\[0,0\]: expected a number, got 'nan': 'nan' is not a finite real"),
         ({"M": [[1]], "K": [["I"]]}, r"K\[0,0\]: expected a number, got 'I': 'I' is not a finite real"),
         ({"M": [[1]], "K": [["1e301"]]}, r"K\[0,0\]: '1e301' has magnitude 1.00e\+301, beyond the limit"),
-        ({"M": [[1]], "K": [["exp(10**6)"]]}, r"K\[0,0\]: 'exp\(10\*\*6\)' has magnitude .*beyond the limit"),
+        ({"M": [[1]], "K": [["exp(10**6)"]]}, r"K\[0,0\]: .*'exp\(10\*\*6\)'.* magnitude .*beyond"),
         ({"M": [[1]], "K": [[10**400]]}, r"K\[0,0\]: .* has magnitude .*beyond the limit"),
         ({"M": [[1]], "K": [[10**6000]]}, r"K\[0,0\]: an integer of 19932 bits has more than 1000 digits"),
         ({"M": [[1]], "K": [["9" * 4001]]}, r"K\[0,0\]: expected a number, got '9999.*number with 4001 digits"),
