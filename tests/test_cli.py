@@ -308,6 +308,8 @@ def test_symbolic_scene_prints_its_formula(capsys, symbolic_file):
     (["--param", "k"], "--param: expected NAME=VALUE such as k=2, got 'k'"),
     (["--param", "k=1", "--param", "k=2"], "'k' is given twice"),
     (["--param", "k=-1"], "parameter 'k' is positive, got -1"),
+    (["--param", "k=c", "--param", "c=k"], "the values of c, k refer to each other in a cycle"),
+    (["--param", "k=1", "--param", "c=-2*k"], "parameter 'c' is nonnegative, got -2"),
     (["--param", "k=abc"], "parameter 'k': expected a number, got 'abc': unknown name 'abc'"),
     (["--param", "k=2", "--param", "c=nan"], "'nan' is not a finite real number"),
 ])
@@ -323,8 +325,8 @@ def test_param_values_give_the_textbook_oscillator(capsys, symbolic_file):
     _, rows = table(out)
     for time, x1 in rows:
         assert x1 == pytest.approx(math.cos(2 * time), abs=1e-12)
-    # critical damping c = 2 sqrt(k) = 4: (1 + 2t) e^{-2t}
-    code, out, err = run(capsys, "solve", symbolic_file, "--param", "k=4", "--param", "c=4",
+    # critical damping c = 2 sqrt(k) = 4: (1 + 2t) e^{-2t}; a value may name another parameter
+    code, out, err = run(capsys, "solve", symbolic_file, "--param", "k=4", "--param", "c=2*sqrt(k)",
                          "--at", "0.5")
     assert code == 0, err
     assert table(out)[1][0][1] == pytest.approx(2 * math.exp(-1), abs=1e-12)

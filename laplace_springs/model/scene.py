@@ -368,13 +368,31 @@ def _check_diagonal_masses(entries: Entries) -> None:
             )
 
 
-def _is_symmetric(entries: Entries) -> bool:
+def _asymmetry(entries: Entries) -> tuple[tuple[int, int], sympy.Expr, sympy.Expr] | None:
+    """The first pair of entries with M[i,j] != M[j,i], or None for a symmetric matrix."""
     for (i, j), value in entries.items():
         other = entries.get((j, i), sympy.S.Zero)
         if value != other and (value.is_Rational and other.is_Rational
                                or sympy.simplify(value - other) != 0):
-            return False
-    return True
+            return (i, j), value, other
+    return None
+
+
+def _is_symmetric(entries: Entries) -> bool:
+    return _asymmetry(entries) is None
+
+
+def _check_symmetric_mass(entries: Entries) -> None:
+    """M is symmetric: the kinetic energy ½ẋᵀMẋ sees only its symmetric part."""
+    found = _asymmetry(entries)
+    if found is None:
+        return
+    (i, j), value, other = found
+    raise SceneError(
+        f"M must be symmetric (the kinetic energy ½ẋᵀMẋ sees only its symmetric part), but "
+        f"M[{i},{j}] = {value} but M[{j},{i}] = {other}; C and K may be non-symmetric "
+        f"(gyroscopic and circulatory forces), and the seed's non-symmetric A = M⁻¹K "
+        f"belongs in Scene.from_normalized(A=..., B=...), which takes M = I")
 
 
 def _clearly_positive_definite(n: int, entries: Entries) -> bool:
@@ -402,8 +420,6 @@ def _check_numeric_mass_matrix(M: sympy.MatrixBase, entries: Entries) -> None:
     The factorisation works on the nonzero entries, rows as dictionaries: its cost
     follows the fill-in (none for a diagonal or banded M).
     """
-    if not _is_symmetric(entries):
-        return  # only the pencil's regularity is required (checked by the caller)
     _check_diagonal_masses(entries)
     if _clearly_positive_definite(M.rows, entries):
         return
@@ -608,6 +624,7 @@ def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
         zero = sympy.S.Zero
         singular = any(entries.get((i, i), zero).is_zero is not False for i in range(M.rows))
     else:
+        _check_symmetric_mass(entries)
         if not M.free_symbols:
             _check_numeric_mass_matrix(M, entries)
         if M.rows > DENSE_STORAGE_MAX_COORDINATES:
@@ -761,6 +778,16 @@ def _assemble(components: Iterable[Component], kind: str, index: Mapping[str, in
             terms.setdefault((j, i), []).append(-component.value)
     entries = {key: parts[0] if len(parts) == 1 else sympy.Add(*parts) for key, parts in terms.items()}
     return _from_entries(len(index), len(index), entries)  # zero sums are left out there
+
+
+def _resolved(mapping: dict[sympy.Symbol, sympy.Expr]) -> dict[sympy.Symbol, sympy.Expr]:
+    """Values that name other substituted parameters, with those put in (``c = 2*sqrt(k)``)."""
+    for _ in range(len(mapping) + 1):
+        cyclic = sorted(symbol.name for symbol, value in mapping.items() if value.has(*mapping))
+        if not cyclic:
+            return mapping
+        mapping = {symbol: value.xreplace(mapping) for symbol, value in mapping.items()}
+    raise SceneError(f"subs: the values of {', '.join(cyclic)} refer to each other in a cycle")
 
 
 def _initial_by_mass(value: Any, name: str, mass_names: Sequence[str]) -> Any:
@@ -1088,13 +1115,13 @@ class Scene:
             if not isinstance(name, str) or name not in by_name:
                 raise SceneError(f"subs: {shown(name)} is not a parameter of this scene; "
                                  f"its parameters are {known}")
-            symbol = by_name[name]
-            exact = to_exact(value, f"parameter {name!r}", parameters=by_name)
+            mapping[by_name[name]] = to_exact(value, f"parameter {name!r}", parameters=by_name)
+        mapping = _resolved(mapping)
+        for symbol, exact in mapping.items():
             for assumption in ("positive", "nonnegative", "real", "negative"):
                 if symbol.assumptions0.get(assumption) and exact.is_extended_real is not None \
                         and getattr(exact, f"is_{assumption}") is False:
-                    raise SceneError(f"parameter {name!r} is {assumption}, got {exact}")
-            mapping[symbol] = exact
+                    raise SceneError(f"parameter {symbol.name!r} is {assumption}, got {exact}")
         return mapping
 
     # -- builders -----------------------------------------------------------

@@ -15,8 +15,10 @@ import numpy as np
 import pytest
 import sympy
 
+from laplace_springs import solve
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.scene import SUPPORTS, Component, Scene
+from laplace_springs.model.symbols import TIME
 
 R = sympy.Rational
 
@@ -274,7 +276,9 @@ def test_symbolic_full_mass_matrix_is_accepted_and_normalized():
         ({"M": [[1, 2], [2, 1]]}, r"M must be symmetric positive semi-definite, but it is indefinite"),
         ({"M": [[1, 2], [2, 4]]}, r"pencil .* is singular.*motion along \[1, -1/2\]"),
         ({"M": [[-1, 1], [1, 2]]}, r"mass M\[0,0\] must be positive, got -1; 0 is allowed"),
-        ({"M": [[1, 2], [3, 6]]}, r"pencil .* is singular: det\(λ²M \+ λC \+ K\) is identically zero"),
+        ({"M": [[1, 2], [3, 6]]}, r"M must be symmetric .*M\[0,1\] = 2 but M\[1,0\] = 3"),
+        ({"M": [[1, 0], [0, 0]], "C": [[0, 0], [0, 0]], "K": [[0, 0], [0, 0]]},
+         r"pencil .* is singular: det\(λ²M \+ λC \+ K\) is identically zero"),
         ({"M": [["m", "m"], ["m", "m"]], "parameters": ["m"]}, r"pencil .* is singular"),
         ({"M": [["m"]]}, r"M\[0,0\]: expected a number, got 'm': unknown name 'm' at column 1 \(to make 'm' a "
                          r"parameter, declare it: parameters=\['m'\]"),
@@ -396,3 +400,19 @@ def test_from_components_errors(overrides, message):
     arguments = {"masses": {"m1": 1, "m2": 2}, **overrides}
     with pytest.raises(SceneError, match=message):
         Scene.from_components(**arguments)
+
+
+def test_subs_resolves_values_that_name_other_parameters_and_refuses_cycles():
+    scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0], parameters=["c", "k"])
+    critical = scene.subs({"k": 4, "c": "2*sqrt(k)"})
+    assert (critical.C[0, 0], critical.K[0, 0], critical.parameters) == (4, 4, ())
+    with pytest.raises(SceneError, match="the values of c, k refer to each other in a cycle"):
+        scene.subs({"k": "c", "c": "k"})
+    with pytest.raises(SceneError, match="parameter 'c' is positive, got -2"):
+        scene.subs({"k": 1, "c": "-2*k"})
+
+
+def test_subs_at_critical_damping_solves_exactly_to_the_textbook_form():
+    scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0], parameters=["c"])
+    x = solve(scene.subs({"c": 2})).x[0]  # x'' + 2x' + x = 0, x(0) = 1: (1 + t) e^{-t}
+    assert sympy.simplify(x - (1 + TIME) * sympy.exp(-TIME)) == 0
