@@ -38,7 +38,7 @@ def scene_facts(scene: Scene) -> SceneFacts:
 
     Examples
     --------
-    >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0]))
+    >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0], parameters=["k"]))
     SceneFacts(n=1, symbolic=True, forced=False, rational=False, first_order=False)
     """
     symbolic = bool(scene.free_symbols)
