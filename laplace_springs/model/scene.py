@@ -34,6 +34,7 @@ from sympy.matrices.immutable import ImmutableRepMatrix
 from sympy.polys.domains import GF
 from sympy.polys.matrices import DomainMatrix
 
+from . import state_space as _state_space
 from .errors import SceneError
 from .forcing import forcing_vector
 from .numbers import declare_parameters, generic_values, shown, to_exact
@@ -962,6 +963,29 @@ class Scene:
         return frozenset(symbols)
 
     # -- derived data -------------------------------------------------------
+    def state_space(self) -> tuple[Any, Any, Any, Any]:
+        """Exact (A, B, C, D): state (x, x'), forces on the masses in, positions out.
+
+        See :func:`laplace_springs.model.state_space.state_space`.
+
+        Examples
+        --------
+        >>> A, B, C, D = Scene.from_matrices(M=[[2]], K=[[8]], x0=[1], v0=[0]).state_space()
+        >>> A, B.T
+        (Matrix([
+        [ 0, 1],
+        [-4, 0]]), Matrix([[0, 1/2]]))
+        """
+        return _state_space.state_space(self)
+
+    def to_control(self) -> Any:
+        """The scene as a python-control ``StateSpace`` (float64); needs the ``control`` extra."""
+        return _state_space.to_control(self)
+
+    def to_scipy(self) -> Any:
+        """The scene as a ``scipy.signal.StateSpace`` (float64); needs SciPy."""
+        return _state_space.to_scipy(self)
+
     def normalized(self) -> tuple[sympy.ImmutableMatrix, sympy.ImmutableMatrix]:
         """The seed's normalised matrices ``(A, B) = (M^-1 K, M^-1 C)``, exact.
 
