@@ -383,8 +383,8 @@ class Solution(ABC):
     def _base_floor(self) -> float:
         s = self.scene
         x0 = max((abs(float(v)) for v in s.x0), default=0.0)
-        v0 = max((abs(float(v)) for i, v in enumerate(s.v0) if i not in massless_nodes(s)),
-                 default=0.0)
+        massless = set(massless_nodes(s))
+        v0 = max((abs(float(v)) for i, v in enumerate(s.v0) if i not in massless), default=0.0)
         return reference_scale(x0, v0, self._spectral_radius)
 
     def _require_numbers(self) -> None:

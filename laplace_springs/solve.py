@@ -13,7 +13,12 @@ from .exact.assembly import exact_motion
 from .model.errors import SceneError
 from .model.scene import Scene
 from .numeric.certified import certified_poles
-from .numeric.first_order import has_first_order_form, is_rational, symbolic_entries
+from .numeric.first_order import (
+    NUMERIC_MAX_COORDINATES,
+    has_first_order_form,
+    is_rational,
+    symbolic_entries,
+)
 from .numeric.modal import decompose_modal
 from .numeric.times import as_times
 from .policy import (
@@ -101,8 +106,8 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     try:
         motion = _modal_motion(scene)
     except SceneError:
-        if method != "auto":
-            raise
+        if method != "auto" or scene.n > NUMERIC_MAX_COORDINATES:
+            raise  # a size refusal: the exact route would refuse too, for a worse reason
         fallback = Decision("certified" if facts.certified_ok else "exact",
                             "auto: the modal route cannot hold this scene in float64")
         return (_certified(scene, fallback, target) if fallback.route == "certified"

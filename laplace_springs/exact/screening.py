@@ -49,7 +49,7 @@ __all__ = ["MAX_EXACT_COORDINATES", "screen_scene"]
 #: λ²M + λC + K costs about n⁴ (measured on damped chains: 12 coordinates 0.7 s, 20 3 s,
 #: 30 14 s), and a scene above MAX_EXACT_FACTOR_DEGREE/2 = 12 coordinates gets this far
 #: only when Δ(λ) splits into small factors (decoupled or symmetric parts). The numeric
-#: routes (``method="modal"`` or ``"certified"``) take free numeric scenes of any size.
+#: routes (``method="modal"`` or ``"certified"``) take larger free numeric scenes.
 MAX_EXACT_COORDINATES = 40
 
 _Pencil = tuple[flint.fmpq_mat, flint.fmpq_mat, flint.fmpq_mat]
@@ -222,7 +222,7 @@ def screen_scene(scene: Scene) -> None:
             f"the exact route takes at most MAX_EXACT_COORDINATES = {MAX_EXACT_COORDINATES} "
             f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
             f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
-            "free numeric scenes of any size")
+            "larger free numeric scenes, within their own limits")
     if 2 * n <= MAX_EXACT_FACTOR_DEGREE:
         return  # no factor of Δ can be too large
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
