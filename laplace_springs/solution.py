@@ -324,6 +324,15 @@ class Solution(ABC):
         """x(t) written as Σ c_ik g_k with g_k as undefined functions g_k(t)."""
         return self.exact.motion.g_form()
 
+    def subs(self, values: Any) -> Solution:
+        """The solution with parameters given values; only exact solutions have parameters.
+
+        A numeric route's scene has none, so this is a SceneError naming what it has
+        (see :meth:`laplace_springs.routes.exact.ExactSolution.subs`).
+        """
+        self.scene.subs(values)  # raises: a numeric scene has no parameters
+        raise SceneError(f"the {self.method} route's scene has no parameters to substitute")
+
     @property
     def conditions(self) -> tuple:
         """Where the formula holds, when it is generic (e.g. "Δ(λ) has simple roots"); () if always."""

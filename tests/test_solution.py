@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import mpmath
 import numpy as np
@@ -125,3 +126,16 @@ def test_auto_takes_the_modal_route_for_large_numeric_scenes():
         ls.solve(scene.with_forcing({"x1": "cos(t)"}), method="modal")
     with pytest.raises(ValueError, match="method must be one of"):
         ls.solve(scene, method="fast")
+
+
+def test_exact_solution_subs_solves_again_so_critical_damping_stays_exact():
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0], parameters=["c"])
+    generic = ls.solve(scene)
+    critical = generic.subs({"c": 2})  # x'' + 2x' + x = 0, x(0) = 1: the textbook (1 + t)e^{-t}
+    assert sp.simplify(critical.x[0] - (1 + ls.t) * sp.exp(-ls.t)) == 0
+    assert critical.evaluate([1.0])[0, 0] == pytest.approx(2 * math.exp(-1), rel=1e-15)
+    with pytest.raises(ls.SceneError, match="'k' is not a parameter of this scene"):
+        generic.subs({"k": 1})
+    numeric = ls.solve(scene.subs({"c": 1}), method="modal")
+    with pytest.raises(ls.SceneError, match="'c' is not a parameter of this scene; its parameters are none"):
+        numeric.subs({"c": 2})

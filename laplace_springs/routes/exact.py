@@ -84,6 +84,29 @@ class ExactSolution(Solution):
         :attr:`laplace_springs.exact.assembly.ExactMotion.conditions`)."""
         return self.motion.conditions
 
+    def subs(self, values: Any) -> ExactSolution:
+        """The exact solution of the scene with some parameters given values, solved again.
+
+        Solving again (rather than substituting into :attr:`x`) keeps degenerate values
+        exact: at critical damping the generic formula is 0/0, the new one is (1 + t)e^{-t}.
+
+        Parameters
+        ----------
+        values : mapping
+            Parameter (Symbol or name) -> value, as in :meth:`Scene.subs`.
+
+        Examples
+        --------
+        >>> scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0],
+        ...                             parameters=["c"])
+        >>> sol = ExactSolution(exact_motion(scene), reason="example")
+        >>> sol.subs({"c": 2}).x[0]
+        t*exp(-t) + exp(-t)
+        """
+        scene = self.scene.subs(values)
+        return ExactSolution(exact_motion(scene), reason=f"{self.reason}; parameters given values",
+                             target=self.target)
+
     def latex(self, *, form: str = "terms", resolvent: bool = False, sylvester: bool = False,
               standalone: bool = False, markdown: bool = False) -> str:
         """x(t) in LaTeX the way the seed writes it, with every named quantity defined.
