@@ -922,6 +922,28 @@ class Scene:
                                       self.forcing)
         object.__setattr__(self, "parameters", tuple(declared[name] for name in sorted(declared)))
 
+    def _repr_latex_(self) -> str | None:
+        """The equations M x'' + C x' + K x = f(t) with their matrices (Jupyter shows it).
+
+        Only for scenes of at most 12 coordinates; larger ones show their ``repr``.
+
+        Examples
+        --------
+        >>> print(Scene.from_matrices(M=[[2]], K=[[8]], x0=[1], v0=[0])._repr_latex_())
+        $\\left[\\begin{matrix}2\\end{matrix}\\right] \\ddot{x} + \\left[\\begin{matrix}8\\end{matrix}\\right] x = 0,\\quad x(0) = \\left[\\begin{matrix}1\\end{matrix}\\right],\\ \\dot{x}(0) = \\left[\\begin{matrix}0\\end{matrix}\\right]$
+        """
+        if self.n > 12:
+            return None
+        parts = [f"{sympy.latex(sympy.Matrix(self.M))} \\ddot{{x}}"]
+        if self.is_damped:
+            parts.append(f"{sympy.latex(sympy.Matrix(self.C))} \\dot{{x}}")
+        if any(entry != 0 for entry in self.K.values()):
+            parts.append(f"{sympy.latex(sympy.Matrix(self.K))} x")
+        right = sympy.latex(sympy.Matrix(self.forcing)) if self.is_forced else "0"
+        start = (f"x(0) = {sympy.latex(sympy.Matrix(self.x0))},\\ "
+                 f"\\dot{{x}}(0) = {sympy.latex(sympy.Matrix(self.v0))}")
+        return f"${' + '.join(parts)} = {right},\\quad {start}$"
+
     def __repr__(self) -> str:
         title = f" {self.title!r}:" if self.title else ""
         damping = "damped" if self.is_damped else "undamped"

@@ -416,3 +416,14 @@ def test_subs_at_critical_damping_solves_exactly_to_the_textbook_form():
     scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0], parameters=["c"])
     x = solve(scene.subs({"c": 2})).x[0]  # x'' + 2x' + x = 0, x(0) = 1: (1 + t) e^{-t}
     assert sympy.simplify(x - (1 + TIME) * sympy.exp(-TIME)) == 0
+
+
+def test_scene_shows_its_equations_in_latex():
+    forced = Scene.from_matrices(M=[[1]], C=[["1/5"]], K=[[4]], x0=[1], v0=[0], forcing=["cos(2*t)"])
+    text = forced._repr_latex_()
+    assert text.startswith("$") and text.endswith("$")
+    assert r"\ddot{x}" in text and r"\frac{1}{5}" in text and r"\cos{\left(2 t \right)}" in text
+    undamped = Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0])._repr_latex_()
+    assert r"\dot{x} +" not in undamped and "x = 0" in undamped  # no zero damping term
+    big = Scene.from_matrices(M=sympy.eye(13), K=sympy.eye(13), x0=[0] * 13, v0=[0] * 13)
+    assert big._repr_latex_() is None
