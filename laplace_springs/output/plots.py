@@ -504,19 +504,8 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
     """
     _check_numeric(scene)
     rows = list(range(scene.n) if outputs is None else outputs)
-    for index in (force, *rows):
-        if not 0 <= index < scene.n:
-            raise ValueError(f"coordinate {index} is out of range for a scene with {scene.n} "
-                             "coordinates (0-based)")
-    found = modes(scene)
-    peaks = np.array(sorted(float(m.damped_frequency) for m in found if m.kind == "oscillatory"))
-    if omegas is None:
-        positive = [float(m.natural_frequency) for m in found if m.kind != "rigid"]
-        low, high = (min(positive) / 10, max(positive) * 10) if positive else (0.01, 100)
-        omegas = np.union1d(np.geomspace(low, high, 4000), peaks)
-    w = np.atleast_1d(np.asarray(omegas, dtype=float))
-    if not np.all(np.isfinite(w) & (w > 0)):
-        raise ValueError("omegas must be positive and finite (they are drawn on log axes)")
+    _check_coordinates(scene, [force, *rows])
+    w, peaks = _response_frequencies(scene, omegas)
     H = frequency_response(scene, w)[:, :, force]
     if ax is None:
         import matplotlib.pyplot as plt
@@ -612,7 +601,7 @@ def _check_coordinates(scene: Scene, indices: Sequence[int]) -> None:
                              "coordinates (0-based)")
 
 
-def _bode_frequencies(scene: Scene, omegas: Any) -> tuple[np.ndarray, np.ndarray]:
+def _response_frequencies(scene: Scene, omegas: Any) -> tuple[np.ndarray, np.ndarray]:
     """(frequencies, damped natural frequencies of the oscillatory modes).
 
     By default 4000 log-spaced points from a tenth of the lowest to ten times the highest
@@ -651,15 +640,22 @@ def bode_data(scene: Scene, omegas: Any = None, *, force: int = 0,
     >>> round(float(db[0, 0]), 6), round(float(phase[0, 0]), 6)  # 20 log10(1/(cω)) = 20 log10 2.5
     (7.9588, -90.0)
     """
+    w, _, magnitude, phase = _bode(scene, omegas, force, outputs)
+    return w, magnitude, phase
+
+
+def _bode(scene: Scene, omegas: Any, force: int, outputs: Sequence[int] | None
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Frequencies, resonance frequencies, magnitudes (dB) and phases (degrees)."""
     _check_matrices_numeric(scene, "a Bode plot")
     rows = list(range(scene.n) if outputs is None else outputs)
     _check_coordinates(scene, [force, *rows])
-    w, _ = _bode_frequencies(scene, omegas)
+    w, peaks = _response_frequencies(scene, omegas)
     H = frequency_response(scene, w)[:, rows, force].T
     with np.errstate(divide="ignore"):
         magnitude = 20 * np.log10(np.abs(H))
     phase = np.degrees(np.unwrap(np.angle(H), axis=1))
-    return w, magnitude, phase
+    return w, peaks, magnitude, phase
 
 
 def plot_bode(scene: Scene, omegas: Any = None, *, force: int = 0,
@@ -708,8 +704,7 @@ def plot_bode(scene: Scene, omegas: Any = None, *, force: int = 0,
     >>> [a.get_xscale() for a in fig.axes], [a.get_ylabel() for a in fig.axes]
     (['log', 'log'], ['magnitude (dB re 1 m/N)', 'phase (degrees)'])
     """
-    w, magnitude, phase = bode_data(scene, omegas, force=force, outputs=outputs)
-    _, peaks = _bode_frequencies(scene, w)
+    w, peaks, magnitude, phase = _bode(scene, omegas, force, outputs)
     rows = list(range(scene.n) if outputs is None else outputs)
     if ax is None:
         import matplotlib.pyplot as plt
