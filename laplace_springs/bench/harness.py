@@ -28,6 +28,10 @@ more accurate
 on the Pareto front
     No peer (a method that is not this project's) is both strictly faster and more
     accurate than our default route on that case.
+fastest at this accuracy
+    No peer at least as accurate as our default route (tie rule) is strictly faster. A
+    peer inside the tie band that is faster leaves us on the front but not the fastest;
+    the report and the summary give both verdicts and list those cases with the ratio.
 """
 
 from __future__ import annotations
@@ -420,8 +424,8 @@ def read_csv(path: str | Path) -> list[dict[str, str]]:
 
 
 def summary_lines(result: BenchmarkResult) -> list[str]:
-    """Short per-case lines: our error and time, and the Pareto verdict."""
-    verdict_text = bench_report.verdict_text
+    """Short per-case lines (our error and time, both verdicts), then the headline:
+    both counts and the cases where a peer at least as accurate is faster."""
     lines = []
     for verdict in result.verdicts:
         ours = verdict.ours
@@ -430,9 +434,9 @@ def summary_lines(result: BenchmarkResult) -> list[str]:
                          f"({ours.status + ': ' + ours.note if ours else 'not run'})")
             continue
         lines.append(f"{verdict.case}: error {ours.error:.1e}, {ours.seconds:.3g} s — "
-                     f"{verdict_text(verdict)}")
-    on_front = sum(v.on_front is True for v in result.verdicts)
-    lines.append(f"on the Pareto front: {on_front} of {len(result.verdicts)} cases; "
-                 f"total {result.wall_seconds:.0f} s")
+                     f"{bench_report.verdict_text(verdict)}; fastest at this accuracy: "
+                     f"{bench_report.fastest_text(verdict)}")
+    lines += bench_report.headline(result.verdicts)
+    lines.append(f"total {result.wall_seconds:.0f} s")
     return lines
 

@@ -84,12 +84,21 @@ class Record:
 
 @dataclass
 class Verdict:
-    """Whether our default route is on a case's accuracy–time Pareto front."""
+    """Two verdicts on our default route for one case.
+
+    *On the front* (:attr:`on_front`): no peer is both strictly faster and more accurate
+    (tie rule). *Fastest at this accuracy* (:attr:`fastest_at_accuracy`): no peer that is
+    at least as accurate (tie rule: not less accurate) is strictly faster. The second is
+    the stricter: a peer whose error is inside the tie band of ours and that is faster
+    leaves us on the front but not the fastest.
+    """
 
     case: str
     ours: Record | None
     dominated_by: list[Record]          # tie band applied (TIE_FLOOR, TIE_FACTOR)
     strictly_dominated_by: list[Record]  # raw errors
+    #: Peers strictly faster than ours and at least as accurate (tie rule), fastest first.
+    faster_as_accurate: list[Record] = field(default_factory=list)
 
     @property
     def on_front(self) -> bool | None:
@@ -97,6 +106,19 @@ class Verdict:
         if self.ours is None or self.ours.status != "ok":
             return None
         return not self.dominated_by
+
+    @property
+    def fastest_at_accuracy(self) -> bool | None:
+        """True when no peer at least as accurate is faster; None without our result."""
+        if self.on_front is None:
+            return None
+        return not self.faster_as_accurate
+
+    def speedup(self, record: Record) -> float:
+        """Our time over ``record``'s time (> 1: the peer is that many times faster)."""
+        if self.ours is None or self.ours.seconds is None or not record.seconds:
+            return float("nan")
+        return self.ours.seconds / record.seconds
 
 
 @dataclass
@@ -148,10 +170,12 @@ def more_accurate(error: float, than: float, *, strict: bool = False) -> bool:
 
 
 def pareto_verdict(records: Sequence[Record], route: str = DEFAULT_ROUTE) -> Verdict:
-    """Which peers are both strictly faster than our ``route`` and more accurate, on one case.
+    """Which peers are strictly faster than our ``route`` on one case and how accurate.
 
-    Only peers (records with ``ours`` false) that finished count; our other routes never
-    dominate the default one.
+    ``dominated_by``: faster and more accurate (tie rule); ``strictly_dominated_by``:
+    faster and more accurate in raw errors; ``faster_as_accurate``: faster and not less
+    accurate (tie rule), fastest first. Only peers (records with ``ours`` false) that
+    finished count; our other routes never dominate the default one.
 
     Examples
     --------
@@ -159,6 +183,15 @@ def pareto_verdict(records: Sequence[Record], route: str = DEFAULT_ROUTE) -> Ver
     >>> peer = Record("c", "k", "peer", "", False, "ok", error=1e-14, seconds=0.001)
     >>> [r.method for r in pareto_verdict([ours, peer]).dominated_by]
     ['peer']
+
+    A peer inside the tie band (3e-16 against 1e-16: both below the floor) and ten times
+    faster leaves us on the front, but not the fastest at this accuracy:
+
+    >>> ours = Record("c", "k", "ours", "", True, "ok", error=1e-16, seconds=0.01)
+    >>> tied = Record("c", "k", "tied", "", False, "ok", error=3e-16, seconds=0.001)
+    >>> verdict = pareto_verdict([ours, tied])
+    >>> verdict.on_front, verdict.fastest_at_accuracy, round(verdict.speedup(tied), 6)
+    (True, False, 10.0)
     """
     ours = next((r for r in records if r.method == route), None)
     case = records[0].case if records else ""
@@ -168,6 +201,9 @@ def pareto_verdict(records: Sequence[Record], route: str = DEFAULT_ROUTE) -> Ver
     error, seconds = mine
     peers = [(r, m[0]) for r in records
              if not r.ours and (m := measured(r)) is not None and m[1] < seconds]
+    as_accurate = [r for r, e in peers if not more_accurate(error, e)]
+    as_accurate.sort(key=lambda r: r.seconds or 0.0)
     return Verdict(case, ours,
                    [r for r, e in peers if more_accurate(e, error)],
-                   [r for r, e in peers if more_accurate(e, error, strict=True)])
+                   [r for r, e in peers if more_accurate(e, error, strict=True)],
+                   as_accurate)

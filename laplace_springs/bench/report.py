@@ -16,7 +16,8 @@ from pathlib import Path
 
 from .records import TIE_FACTOR, TIE_FLOOR, BenchmarkResult, Record, Verdict, measured, more_accurate
 
-__all__ = ["write_all", "write_markdown", "write_csv", "plot_case", "verdict_text"]
+__all__ = ["write_all", "write_markdown", "write_csv", "plot_case", "verdict_text", "fastest_text",
+           "headline"]
 
 PHASES = ("solve", "evaluate", "invert")
 CSV_FIELDS = ("case", "kind", "method", "ours", "status", "error", "seconds", "runs",
@@ -63,6 +64,66 @@ def _fastest_as_accurate(records: Sequence[Record], error: float) -> tuple[Recor
     return min(peers, key=lambda pair: pair[1], default=None)
 
 
+def fastest_text(verdict: Verdict, records: Sequence[Record] = ()) -> str:
+    """"yes" or "no: <peer> (error, time) N× faster" for "fastest at this accuracy".
+
+    ``records`` (the case's records) only add, when we are the fastest, the next peer at
+    least as accurate and how much slower it is.
+
+    Examples
+    --------
+    >>> from laplace_springs.bench.records import Record, pareto_verdict
+    >>> ours = Record("c", "k", "ours", "", True, "ok", 1e-16, 0.01)
+    >>> tied = Record("c", "k", "scipy-expm", "", False, "ok", 4e-16, 0.0005)
+    >>> fastest_text(pareto_verdict([ours, tied]))
+    'no: scipy-expm (4.0e-16, 0.0005 s) 20× faster'
+    """
+    if verdict.fastest_at_accuracy is None:
+        return "no result from our route"
+    if verdict.faster_as_accurate:
+        rival = verdict.faster_as_accurate[0]
+        return f"no: {_short(rival)} {verdict.speedup(rival):.2g}× faster"
+    if not records or verdict.ours is None or verdict.ours.error is None:
+        return "yes"
+    nearest = _fastest_as_accurate(records, verdict.ours.error)
+    if nearest is None:
+        return "yes (no peer as accurate)"
+    return f"yes (next: {_short(nearest[0])}, {1 / verdict.speedup(nearest[0]):.2g}× slower)"
+
+
+def headline(verdicts: Sequence[Verdict]) -> list[str]:
+    """Both counts, then one line per case where a peer at least as accurate is faster.
+
+    Examples
+    --------
+    >>> from laplace_springs.bench.records import Record, pareto_verdict
+    >>> def case(name, peer_error, peer_seconds):
+    ...     return pareto_verdict([Record(name, "k", "ours", "", True, "ok", 1e-16, 0.01),
+    ...                            Record(name, "k", "peer", "", False, "ok", peer_error, peer_seconds)])
+    >>> for line in headline([case("a", 3e-16, 0.002), case("b", 1e-9, 0.001)]):
+    ...     print(line)
+    no peer both faster and more accurate (on the Pareto front): 2 of 2 cases
+    fastest at its accuracy (no peer at least as accurate is faster): 1 of 2 cases
+    a peer at least as accurate (tie rule) is faster on 1 case:
+    - a: peer (3.0e-16, 0.002 s) 5× faster than ours (1.0e-16, 0.01 s)
+    """
+    on_front = sum(v.on_front is True for v in verdicts)
+    fastest = sum(v.fastest_at_accuracy is True for v in verdicts)
+    beaten = [v for v in verdicts if v.fastest_at_accuracy is False]
+    lines = [f"no peer both faster and more accurate (on the Pareto front): "
+             f"{on_front} of {len(verdicts)} cases",
+             f"fastest at its accuracy (no peer at least as accurate is faster): "
+             f"{fastest} of {len(verdicts)} cases"]
+    if beaten:
+        lines.append(f"a peer at least as accurate (tie rule) is faster on {len(beaten)} "
+                     f"case{'s' if len(beaten) != 1 else ''}:")
+        for v in beaten:
+            rival, ours = v.faster_as_accurate[0], v.ours
+            mine = f"{_error_text(ours.error)}, {_seconds_text(ours.seconds)} s" if ours else "—"
+            lines.append(f"- {v.case}: {_short(rival)} {v.speedup(rival):.2g}× faster than ours ({mine})")
+    return lines
+
+
 def _versions() -> str:
     """Versions of the packages involved, from their metadata (nothing is imported)."""
     parts = [f"Python {platform.python_version()}", f"laplace_springs {_own_version()}"]
@@ -106,12 +167,16 @@ def _definitions(result: BenchmarkResult) -> list[str]:
         f"{TIE_FACTOR:g}. **Strict**: raw errors, no tie band.",
         "**On the front**: no peer is both faster than our default route (`ours`) and more "
         "accurate on that case.",
+        "**Fastest at this accuracy**: no peer at least as accurate as our default route (tie "
+        "rule: not less accurate) is faster on that case. A peer whose error is inside the tie "
+        "band of ours and that is faster leaves us on the front but not the fastest; the "
+        "ratio is our time over the peer's.",
     ]
 
 
 def _summary_table(result: BenchmarkResult) -> list[str]:
     lines = ["| case | kind | n | ours error | ours time (s) | solve / evaluate (s) "
-             "| fastest peer as accurate | verdict | strict verdict |",
+             "| no peer more accurate and faster | fastest at this accuracy | strict verdict |",
              "|---|---|---|---|---|---|---|---|---|"]
     by_case = {case.name: case for case in result.cases}
     for verdict in result.verdicts:
@@ -121,17 +186,14 @@ def _summary_table(result: BenchmarkResult) -> list[str]:
         mine = measured(ours) if ours is not None else None
         if ours is None or mine is None:
             status = "not run" if ours is None else f"{ours.status}: {ours.note}"
-            lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {status} | — | — | — "
-                         f"| no result | no result |")
+            lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {status} | — | — "
+                         f"| no result | no result | no result |")
             continue
         error, seconds = mine
         split = " / ".join(_seconds_text(ours.phases.get(p)) for p in ("solve", "evaluate"))
-        rival = _fastest_as_accurate(records, error)
-        rival_text = "none" if rival is None else (
-            f"{_short(rival[0])}, {rival[1] / seconds:.2g}× our time")
         lines.append(f"| `{case.name}` | {case.kind} | {case.scene.n} | {_error_text(error)} "
-                     f"| {_seconds_text(seconds)} | {split} | {rival_text} "
-                     f"| {verdict_text(verdict)} | {verdict_text(verdict, strict=True)} |")
+                     f"| {_seconds_text(seconds)} | {split} | {verdict_text(verdict)} "
+                     f"| {fastest_text(verdict, records)} | {verdict_text(verdict, strict=True)} |")
     return lines
 
 
@@ -156,12 +218,18 @@ def _case_section(result: BenchmarkResult, case, plot: Path | None) -> list[str]
 def write_markdown(result: BenchmarkResult, path: Path, plots: dict[str, Path]) -> None:
     """The report: run details, definitions, the summary with verdicts, one table per case."""
     on_front = sum(v.on_front is True for v in result.verdicts)
+    fastest = sum(v.fastest_at_accuracy is True for v in result.verdicts)
+    total = len(result.verdicts)
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     lines = ["# laplace_springs: error against run time", "",
              f"{stamp}; {_versions()}; {platform.machine()}, {os.cpu_count()} cores.",
              f"{len(result.cases)} cases × {len(result.methods)} methods in "
-             f"{result.wall_seconds:.0f} s. Our default route is on the accuracy–time Pareto "
-             f"front of **{on_front} of {len(result.verdicts)}** cases.", ""]
+             f"{result.wall_seconds:.0f} s. Our default route: no peer both faster and more "
+             f"accurate (on the accuracy–time Pareto front) on **{on_front} of {total}** cases; "
+             f"**fastest at its accuracy on {fastest} of {total}** cases.", ""]
+    beaten = headline(result.verdicts)[2:]
+    if beaten:
+        lines += [beaten[0][0].upper() + beaten[0][1:], "", *beaten[1:], ""]
     lines += [f"- {text}" for text in _definitions(result)]
     if result.notes:
         lines += ["", "Notes:"] + [f"- {note}" for note in result.notes]

@@ -111,8 +111,10 @@ def test_recorded_errors_agree_with_an_independent_reference(tmp_path):
     # the verdicts are about our default route, and the report counts them as they are
     assert [v.ours.method if v.ours else None for v in result.verdicts] == ["ours", "ours"]
     on_front = sum(v.on_front is True for v in result.verdicts)
+    fastest = sum(v.fastest_at_accuracy is True for v in result.verdicts)
     report = (tmp_path / "report.md").read_text(encoding="utf-8")
-    assert f"Pareto front of **{on_front} of 2** cases" in report
+    assert f"Pareto front) on **{on_front} of 2** cases" in report
+    assert f"**fastest at its accuracy on {fastest} of 2** cases" in report
     assert "`critical`" in report and "`vertical-pair`" in report
     assert (tmp_path / "plots" / "critical.png").stat().st_size > 1000
 
