@@ -4,6 +4,12 @@ A harmonic force f(t) = F cos ωt drives a stable scene into the steady oscillat
 x(t) = Re[H(iω) F e^{iωt}]: mass j moves with amplitude |(H F)_j| and phase lag
 −arg (H F)_j. The exact H comes from the resolvent's adjugate, H = adj(iω)/Δ(iω).
 The plot of |H| and arg H is :func:`laplace_springs.output.plots.plot_frequency_response`.
+
+A moving support (base excitation, :mod:`laplace_springs.model.supports`) with
+displacement u(t) drives the masses with K_s u + C_s u', where K_s and C_s hold the
+springs and dashpots tying each mass to that support. The transmissibility is the ratio
+of the masses' motion to the support's, X(λ)/U(λ) = (λ²M + λC + K)⁻¹ (K_s + λC_s)
+(:func:`transmissibility_function`); its modulus on λ = iω is :func:`transmissibility`.
 """
 
 from __future__ import annotations
@@ -19,10 +25,12 @@ from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
 from ..model.scene import Scene
+from ..model.supports import support_columns
 from ..model.symbols import lam
 from ..numeric.first_order import float_matrix
 
-__all__ = ["omega", "frequency_response", "steady_state_amplitude"]
+__all__ = ["omega", "frequency_response", "steady_state_amplitude", "transmissibility",
+           "transmissibility_function"]
 
 #: The driving frequency ω of exact frequency responses (rad per unit time).
 omega = sp.Symbol("omega", positive=True)
@@ -130,3 +138,172 @@ def _phase_lag(z: sp.Expr) -> sp.Expr:
     if re == 0 and im == 0:
         return sp.S.Zero
     return sp.simplify(-sp.atan2(sp.simplify(im), sp.simplify(re)))
+
+
+def transmissibility_function(scene: Scene, support: str | None = None) -> sp.ImmutableMatrix:
+    """X(λ)/U(λ): the transform of each mass's motion per unit motion of a support, exact.
+
+    G(λ) = (λ²M + λC + K)⁻¹ (K_s + λC_s), with K_s and C_s the stiffness and damping tying
+    each mass to the support (:func:`laplace_springs.model.supports.support_columns`).
+
+    Parameters
+    ----------
+    scene : Scene
+        Built from components (the supports are known by name).
+    support : str, optional
+        The support that moves: by default the scene's moving support
+        (``support_motion``), or its only support.
+
+    Returns
+    -------
+    sympy.ImmutableMatrix
+        n x 1, rational functions of :data:`laplace_springs.lam`.
+
+    Examples
+    --------
+    A mass on a spring and dashpot standing on the ground: G = (k + cλ)/(mλ² + cλ + k).
+
+    >>> from laplace_springs import Scene
+    >>> scene = Scene.from_components(masses={"m": "m"}, springs={"k": ("ground", "m", "k")},
+    ...                               dashpots={"c": ("ground", "m", "c")}, parameters=["m", "k", "c"])
+    >>> transmissibility_function(scene)[0]
+    (c*lambda + k)/(c*lambda + k + lambda**2*m)
+    """
+    Ks, Cs = support_columns(scene, support)
+    R = resolvent(scene)
+    delta = R.determinant.as_expr()
+    drive = sp.Matrix(Ks + lam * Cs)
+    column = (R.adjugate * drive).applyfunc(lambda e: sp.cancel(sp.expand(e) / delta))
+    return sp.ImmutableMatrix(column)
+
+
+def _output_rows(scene: Scene, outputs: Sequence[Any] | None) -> list[int]:
+    """Coordinates to report: indices (0-based), mass names or coordinate names."""
+    if outputs is None:
+        return list(range(scene.n))
+    rows = []
+    for item in outputs:
+        if isinstance(item, str):
+            names = scene.mass_names if item in scene.mass_names else scene.names
+            if item not in names:
+                raise SceneError(f"outputs: unknown coordinate {item!r}; masses are "
+                                 f"{', '.join(scene.mass_names or scene.names)}")
+            rows.append(names.index(item))
+        elif isinstance(item, (int, np.integer)) and not isinstance(item, bool) and 0 <= item < scene.n:
+            rows.append(int(item))
+        else:
+            raise SceneError(f"outputs: {item!r} is not a coordinate (0 to {scene.n - 1}, or a name)")
+    return rows
+
+
+@overload
+def transmissibility(scene: Scene, omegas: None = None, support: str | None = None,
+                     outputs: Sequence[Any] | None = None, *, exact: bool = False
+                     ) -> sp.ImmutableMatrix: ...
+
+
+@overload
+def transmissibility(scene: Scene, omegas: ArrayLike, support: str | None = None,
+                     outputs: Sequence[Any] | None = None, *, exact: bool = False
+                     ) -> np.ndarray | sp.ImmutableMatrix: ...
+
+
+def transmissibility(scene: Scene, omegas: ArrayLike | None = None, support: str | None = None,
+                     outputs: Sequence[Any] | None = None, *, exact: bool = False
+                     ) -> sp.ImmutableMatrix | np.ndarray:
+    """The transmissibility |X_i(iω)/U(iω)|: motion amplitude of each mass per unit
+    amplitude of a support's harmonic motion.
+
+    |(−ω²M + iωC + K)⁻¹ (K_s + iωC_s)|, entry by entry (see
+    :func:`transmissibility_function`). For one mass on a spring k and a dashpot c it is
+    the textbook T = √((1 + (2ζr)²)/((1 − r²)² + (2ζr)²)), r = ω/ωₙ, ωₙ = √(k/m),
+    ζ = c/(2√(km)).
+
+    Parameters
+    ----------
+    scene : Scene
+        Built from components.
+    omegas : array_like, optional
+        Frequencies ω ≥ 0. Without them the exact transmissibility is returned as a
+        function of the symbol :data:`omega`.
+    support : str, optional
+        The support that moves: by default the scene's moving support
+        (``support_motion``), or its only support.
+    outputs : sequence of int or str, optional
+        Coordinates (0-based) or mass names; all by default.
+    exact : bool, optional
+        With ``omegas``: exact values (a SymPy matrix) instead of floats.
+
+    Returns
+    -------
+    sympy.ImmutableMatrix or numpy.ndarray
+        Without ``omegas``: a column (one entry per output) in ``omega``. With them: a
+        float array of shape (len(omegas), len(outputs)), or with ``exact=True`` a SymPy
+        matrix of that shape.
+
+    Raises
+    ------
+    SceneError
+        For a scene without components, an unknown support or output, symbols in a
+        numeric evaluation, or a frequency where an undamped scene resonates.
+
+    Examples
+    --------
+    >>> from laplace_springs import Scene
+    >>> scene = Scene.from_components(masses={"m": 1}, springs={"k": ("ground", "m", 4)},
+    ...                               dashpots={"c": ("ground", "m", "2/5")})
+    >>> transmissibility(scene)[0]
+    sqrt(4*omega**2 + 400)/sqrt(25*omega**4 - 196*omega**2 + 400)
+    >>> transmissibility(scene, [3], exact=True)[0, 0]   # r = 3/2, ζ = 1/10: √(1.09/1.6525) = 2√(109/661)
+    2*sqrt(72049)/661
+
+    The textbook formula at r = 3/2, ζ = 1/10:
+
+    >>> import math
+    >>> r, zeta = 1.5, 0.1
+    >>> textbook = math.sqrt((1 + (2 * zeta * r)**2) / ((1 - r**2)**2 + (2 * zeta * r)**2))
+    >>> bool(abs(transmissibility(scene, [3.0])[0, 0] - textbook) < 1e-15 * textbook)
+    True
+    """
+    rows = _output_rows(scene, outputs)
+    if omegas is None or exact:
+        G = transmissibility_function(scene, support)
+        squares = _squared_moduli([G[i] for i in rows])
+        if omegas is None:
+            return sp.ImmutableMatrix([sp.sqrt(P) / sp.sqrt(Q) for P, Q in squares])
+        table = []
+        for k, value in enumerate(np.atleast_1d(np.asarray(omegas, dtype=object))):
+            w = to_exact(value, f"omegas[{k}]")
+            row = []
+            for P, Q in squares:
+                denominator = sp.expand(Q.xreplace({omega: w}))
+                if denominator == 0:
+                    raise SceneError(f"omega = {w} is a natural frequency of an undamped scene: "
+                                     "the response grows without bound (resonance)")
+                row.append(sp.sqrt(sp.cancel(sp.expand(P.xreplace({omega: w})) / denominator)))
+            table.append(row)
+        return sp.ImmutableMatrix(table)
+    Ks, Cs = (float_matrix(column, name).ravel() for column, name in
+              zip(support_columns(scene, support), ("K_s", "C_s")))
+    M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
+    w = np.atleast_1d(np.asarray(omegas, dtype=float))
+    pencils = K[None] - (w**2)[:, None, None] * M[None] + 1j * w[:, None, None] * C[None]
+    drives = Ks[None, :] + 1j * w[:, None] * Cs[None, :]
+    try:
+        X = np.linalg.solve(pencils, drives[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        raise SceneError("a frequency in omegas is a natural frequency of an undamped scene: the "
+                         "response grows without bound (resonance)") from None
+    return np.abs(X[:, rows])
+
+
+def _squared_moduli(ratios: Sequence[sp.Expr]) -> list[tuple[sp.Expr, sp.Expr]]:
+    """|G(iω)|² = P(iω)P(−iω) / (Q(iω)Q(−iω)) for real rational G = P/Q, as (numerator,
+    denominator) polynomials in ω."""
+    out = []
+    for ratio in ratios:
+        P, Q = sp.fraction(sp.cancel(ratio))
+        squares = [sp.expand(F.xreplace({lam: sp.I * omega}) * F.xreplace({lam: -sp.I * omega}))
+                   for F in (P, Q)]
+        out.append((squares[0], squares[1]))
+    return out

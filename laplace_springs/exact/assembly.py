@@ -8,6 +8,17 @@ Where Δ(λ) has a factor without closed-form roots (symbolic coefficients, degr
 part of x_i(t) is a sum over its roots, Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt}, valid where those
 roots are simple (:attr:`ExactMotion.conditions`).
 
+A periodic input (:class:`~laplace_springs.model.periodic.Periodic`, transform
+Σ_τ e^{−τλ} R_τ(λ)/(1 − e^{−Pλ})) adds a :class:`PeriodicResponse`: with G_τ = adj·R_τ/Δ
+and φ_τ the solution of φ_τ(x) − φ_τ(x + P) = g_τ(x) = L⁻¹[G_τ](x)
+(:func:`~laplace_springs.exact.shifts.difference_solution`), the response is, for every
+t ≥ 0 (0 ≤ τ ≤ P),
+
+    Σ_τ Σ_{j ≥ 0} g_τ(t − τ − jP) θ(t − τ − jP) = Σ_τ φ_τ((t − τ) mod P) − Σ_τ φ_τ(t − τ + P):
+
+a P-periodic function of the reduced time plus an exponential polynomial in t (a
+telescoped geometric sum: no infinite sum, no growth of the work with t).
+
 Nothing here evaluates numbers or writes output: :class:`ExactMotion` is the exact data
 the later stages (evaluation, LaTeX, plots) read.
 """
@@ -21,12 +32,14 @@ from typing import Literal
 
 import sympy as sp
 
-from ..model.forcing import input_transform
+from ..model.errors import InversionError
+from ..model.forcing import InputTransform, input_transform
+from ..model.periodic import common_period
 from ..model.scene import Scene
 from ..model.symbols import TIME, lam
 from .jumps import InitialJump, initial_jump
 from .named import definitions, expand_names
-from .partial_fractions import decompose
+from .partial_fractions import GenericCondition, decompose, denominator_conditions
 from .real_terms import (
     RootSumTerm,
     Term,
@@ -39,8 +52,9 @@ from .real_terms import (
 from .resolvent import Resolvent, resolvent
 from .root_sums import Condition
 from .screening import screen_scene
+from .shifts import combine_terms, difference_solution, is_resonant, shift_terms
 
-__all__ = ["Piece", "ExactMotion", "exact_motion"]
+__all__ = ["Piece", "PeriodicResponse", "ExactMotion", "exact_motion"]
 
 Part = Literal["all", "steady", "transient"]
 
@@ -104,6 +118,61 @@ class Piece:
         return dataclasses.replace(self, terms=rows, steady=steady, impulses=())
 
 
+@dataclass(frozen=True)
+class PeriodicResponse:
+    """The response to the periodic inputs, in closed form for every t ≥ 0.
+
+    x_i(t) = Σ_k φ_ki((t − τ_k) mod P) + resonant_i(t) + tail_i(t):
+
+    - the **periodic steady state** Σ_k φ_ki(w_k), w_k = (t − τ_k) mod P ∈ [0, P), plus
+      the ``resonant`` terms (poles of 1/(1 − e^{−Pλ}): the mean value and the input's
+      harmonics; at a true resonance — an undamped mode at a multiple of 2π/P, or a
+      rigid mode under an input of nonzero mean — they grow like t^k and no periodic
+      steady state exists);
+    - the **transient** ``tail``: the system's own poles, decaying for a damped scene.
+
+    Attributes
+    ----------
+    period : sympy.Expr
+        P, the common period of the inputs.
+    delays : tuple of sympy.Expr
+        τ_k, 0 ≤ τ_k ≤ P: the switching times within one period.
+    sums : tuple of tuple of tuple of Term
+        ``sums[k][i]``: φ_ki, terms in the reduced time w_k.
+    resonant, tail : tuple of tuple of Term
+        Per coordinate, terms in t (see above).
+    """
+
+    period: sp.Expr
+    delays: tuple[sp.Expr, ...]
+    sums: tuple[tuple[tuple[Term, ...], ...], ...]
+    resonant: tuple[tuple[Term, ...], ...]
+    tail: tuple[tuple[Term, ...], ...]
+
+    def reduced_time(self, t: sp.Expr, delay: sp.Expr) -> sp.Expr:
+        """(t − τ) mod P = t − τ − P·floor((t − τ)/P)."""
+        v = t - delay
+        return v - self.period * sp.floor(v / self.period)
+
+    def expr(self, row: int, part: Part = "all") -> sp.Expr:
+        """Coordinate ``row``: ``"steady"`` (periodic part + resonant terms), ``"transient"``
+        (tail) or ``"all"``."""
+        out = sp.S.Zero
+        if part != "transient":
+            out += sp.Add(*(terms_expr(list(rows[row]), self.reduced_time(TIME, tau))
+                            for tau, rows in zip(self.delays, self.sums)))
+            out += terms_expr(list(self.resonant[row]), TIME)
+        if part != "steady":
+            out += terms_expr(list(self.tail[row]), TIME)
+        return out
+
+    def derivative(self) -> PeriodicResponse:
+        """d/dt (dw/dt = 1 between the switching times)."""
+        return PeriodicResponse(self.period, self.delays,
+                                tuple(derivative_terms(rows) for rows in self.sums),
+                                derivative_terms(self.resonant), derivative_terms(self.tail))
+
+
 @dataclass(frozen=True, eq=False)
 class ExactMotion:
     """Exact motion x(t) of a scene, in real damped sine/cosine form.
@@ -116,6 +185,7 @@ class ExactMotion:
     scene: Scene
     resolvent: Resolvent
     pieces: tuple[Piece, ...]
+    periodic: PeriodicResponse | None = None
 
     @property
     def terms(self) -> tuple[tuple[Term, ...], ...]:
@@ -134,6 +204,7 @@ class ExactMotion:
     def part(self, part: Part) -> sp.ImmutableMatrix:
         """``"all"`` of x(t), its ``"steady"`` state or its ``"transient"``."""
         return sp.ImmutableMatrix([sp.Add(*(piece.expr(i, part) for piece in self.pieces))
+                                   + (self.periodic.expr(i, part) if self.periodic else 0)
                                    for i in range(self.scene.n)])
 
     def derivative(self) -> ExactMotion:
@@ -146,7 +217,8 @@ class ExactMotion:
         >>> motion.derivative().x[0]
         -2*sin(2*t)
         """
-        return dataclasses.replace(self, pieces=tuple(p.derivative() for p in self.pieces))
+        return dataclasses.replace(self, pieces=tuple(p.derivative() for p in self.pieces),
+                                   periodic=self.periodic.derivative() if self.periodic else None)
 
     # -- the seed's g-basis ---------------------------------------------------
     @cached_property
@@ -285,7 +357,29 @@ class ExactMotion:
         for _, _, term in self.root_sums:
             condition = term.condition
             found.setdefault((condition.factor, condition.cofactor), condition)
-        return tuple(found.values())
+        return tuple(found.values()) + self.generic_conditions
+
+    @cached_property
+    def generic_conditions(self) -> tuple[GenericCondition, ...]:
+        """Where the partial fractions of a symbolic scene hold: Δ(λ) (and the inputs'
+        denominators) keep their degree, their quadratic factors have simple roots
+        (c² − 4km ≠ 0 for one damped mass: critical damping is 0/0 in the generic
+        formula) and distinct factors share no root.
+
+        Examples
+        --------
+        >>> from laplace_springs.model.scene import Scene
+        >>> scene = Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[1], v0=[0], parameters=["c"])
+        >>> [c.meaning for c in exact_motion(scene).generic_conditions]
+        ['c**2 - 4 != 0']
+        """
+        denominators = [piece.denominator for piece in self.pieces if piece.denominator is not None]
+        found: list[GenericCondition] = []
+        for D in denominators or [self.resolvent.determinant]:
+            for condition in denominator_conditions(D):
+                if all(sp.expand(condition.expr - c.expr) != 0 for c in found):
+                    found.append(condition)
+        return tuple(found)
 
 
 def exact_motion(scene: Scene) -> ExactMotion:
@@ -322,7 +416,83 @@ def exact_motion(scene: Scene) -> ExactMotion:
                                              root_sums=True))
         flags = tuple((False,) * len(row) for row in rows)
         return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),))
-    return ExactMotion(scene, R, _forced_pieces(scene, R))
+    assert scene.forcing is not None
+    inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
+    with naming_scope():
+        pieces = _forced_pieces(scene, R)
+        periodic = _periodic_response(scene, R, inputs)
+    return ExactMotion(scene, R, pieces, periodic)
+
+
+def _periodic_response(scene: Scene, R: Resolvent, inputs: list[InputTransform]
+                       ) -> PeriodicResponse | None:
+    """The response to the periodic parts of the inputs (None without any)."""
+    periods = [T.period for T in inputs if T.period is not None]
+    if not periods:
+        return None
+    P = common_period(periods)
+    loads: dict[sp.Expr, list[sp.Expr]] = {}
+    for j, T in enumerate(inputs):
+        if T.period is None:
+            continue
+        for tau, part in T.periodic:
+            for k in range(int(P / T.period)):
+                row = loads.setdefault(tau + k * T.period, [sp.S.Zero] * scene.n)
+                row[j] += part
+    delays = tuple(sorted(loads, key=float))
+    sums = []
+    for tau in delays:
+        numerators, denominator = _response(scene, R, loads[tau])
+        rows = []
+        for pf in decompose(numerators, denominator, closed_form=True):
+            if not pf.polynomial.is_zero:
+                raise InversionError("the response to a periodic input has impulses (an impulsive "
+                                     "input on a massless node): a train of impulses is not a "
+                                     "function that evaluates at any t")
+            terms = [term for group in pf.groups for term in group_terms(group)]
+            rows.append(_merged([phi for term in terms for phi in difference_solution(term, P)], P))
+        sums.append(tuple(rows))
+    resonant, tail = [], []
+    for i in range(scene.n):  # −Σ_τ φ_τ(t − τ + P)
+        shifted = _merged([term for tau, rows in zip(delays, sums)
+                           for term in shift_terms(_negated(rows[i]), tau - P)], P)
+        resonant.append(tuple(term for term in shifted if is_resonant(term, P)))
+        tail.append(tuple(term for term in shifted if not is_resonant(term, P)))
+    return PeriodicResponse(P, delays, tuple(sums), tuple(resonant), tuple(tail))
+
+
+def _merged(terms: list[Term], period: sp.Expr) -> tuple[Term, ...]:
+    """Terms with equal exponents summed. Only sums at the poles of 1/(1 − e^{−Pλ}) are
+    proved zero or tidied (there the input's parts cancel exactly, e.g. the t-growth of
+    one period's mean); the system's own poles keep their plain sums (a zero proof over
+    algebraic numbers costs seconds and never succeeds for them)."""
+    keyed: dict[tuple, list[Term]] = {}
+    for term in terms:
+        keyed.setdefault((term.kind, term.power, term.alpha, term.beta), []).append(term)
+    out: list[Term] = []
+    for group in keyed.values():
+        if is_resonant(group[0], period):
+            out += combine_terms(group)
+        elif len(group) == 1:
+            out += group
+        else:
+            out.append(dataclasses.replace(group[0], a=sp.Add(*(term.a for term in group)),
+                                           b=sp.Add(*(term.b for term in group))))
+    return tuple(out)
+
+
+def _negated(terms: tuple[Term, ...]) -> list[Term]:
+    return [dataclasses.replace(term, a=-term.a, b=-term.b) for term in terms]
+
+
+def _response(scene: Scene, R: Resolvent, load: list[sp.Expr]) -> tuple[list[sp.Poly], sp.Poly]:
+    """adj·load/Δ over one denominator: (numerators, Δ·D), D the loads' common denominator."""
+    fractions = [sp.fraction(sp.cancel(value)) for value in load]
+    D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
+    scaled = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
+    numerators = [sum((_poly(R.adjugate[i, j]) * scaled[j] for j in range(scene.n)), _poly(0))
+                  for i in range(scene.n)]
+    return numerators, R.determinant * D
 
 
 def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
@@ -335,8 +505,7 @@ def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
     assert scene.forcing is not None
     inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
     delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
-    with naming_scope():
-        return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
+    return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
 
 
 def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:

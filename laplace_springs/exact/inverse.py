@@ -49,6 +49,20 @@ class InverseTransform:
     impulses: tuple[sp.Expr, ...]
     decomposition: PartialFractions
 
+    @property
+    def conditions(self) -> tuple:
+        """Where the formula holds with symbolic coefficients (e.g. ``a**2 - 4 != 0`` for
+        1/(s(s² + a s + 1)), 0/0 at a = 2); () when it always holds. See
+        :class:`~laplace_springs.exact.partial_fractions.GenericCondition`.
+
+        Examples
+        --------
+        >>> s, a = sp.symbols("s a")
+        >>> [c.meaning for c in inverse_laplace_terms(1 / (s * (s**2 + a*s + 1)), s).conditions]
+        ['a**2 - 4 != 0']
+        """
+        return self.decomposition.conditions
+
     def as_expr(self, t: sp.Expr) -> sp.Expr:
         """The inverse as an expression in ``t`` (valid for t > 0, plus impulses at 0)."""
         return terms_expr(list(self.terms), t) + self.impulses_expr(t)

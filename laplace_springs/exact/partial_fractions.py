@@ -36,7 +36,8 @@ numerator (its principal parts all vanish) is never refused.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from math import factorial
 
 import sympy as sp
@@ -44,11 +45,12 @@ import sympy as sp
 from ..model.errors import InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
-from .root_sums import SumOverRoots, root_sum_weights
+from .root_sums import Condition, SumOverRoots, root_sum_weights
 
 __all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
            "MAX_EXACT_FACTOR_DEGREE", "closed_form_obstacle", "check_closed_form",
-           "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of"]
+           "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of", "GenericCondition",
+           "denominator_conditions"]
 
 #: Largest degree of an irreducible factor with rational coefficients whose exact real
 #: terms are built (``inverse_laplace``, ``solve(scene, method="exact")``). The cost grows
@@ -157,6 +159,7 @@ class PartialFractions:
     variable: sp.Symbol
     polynomial: sp.Poly
     groups: tuple[PoleGroup, ...]
+    conditions: tuple[Condition, ...] = field(default=(), compare=False)
 
     def as_expr(self) -> sp.Expr:
         """Recombine the decomposition into a single rational function (for checks)."""
@@ -477,7 +480,99 @@ def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = Fal
     0
     """
     N, D = _field_polys(transform_of(F, s, parameters), s)
-    return decompose([N], D, closed_form=closed_form, root_sums=root_sums)[0]
+    pf = decompose([N], D, closed_form=closed_form, root_sums=root_sums)[0]
+    return PartialFractions(pf.variable, pf.polynomial, pf.groups, denominator_conditions(D))
+
+
+@dataclass(frozen=True)
+class GenericCondition(Condition):
+    """Where a decomposition with symbolic coefficients holds: a polynomial in the
+    parameters that must not vanish.
+
+    The denominator is factored over ℚ(parameters); the decomposition assumes each
+    irreducible factor q keeps its degree (``leading``: its leading coefficient ≠ 0),
+    has simple roots (disc q ≠ 0) and shares no root with another factor r
+    (``cofactor``: res(q, r) ≠ 0). At a parameter value where one fails the generic
+    formula is 0/0 (s² + a s + 1 at a = 2 is (s + 1)²): substitute first, then invert.
+    The real form of a quadratic needs no sign of its discriminant: the oscillatory form
+    with β = √(−disc) is an identity in the parameters (cos iσt = cosh σt).
+
+    Examples
+    --------
+    >>> s, a = sp.symbols("s a")
+    >>> (c,) = denominator_conditions(sp.Poly(s**3 + a*s**2 + s, s))
+    >>> c.meaning, c.holds_at({a: 2}), c.holds_at({a: 3})
+    ('a**2 - 4 != 0', False, True)
+    """
+
+    leading: sp.Expr | None = None
+
+    @cached_property
+    def expr(self) -> sp.Expr:
+        """The polynomial in the parameters that must not be 0."""
+        if self.leading is not None:
+            return sp.factor(self.leading)
+        q = self.factor
+        if self.cofactor.degree() > 0:
+            return sp.factor(sp.resultant(q, self.cofactor))
+        return sp.factor(sp.discriminant(q))
+
+    @property
+    def meaning(self) -> str:
+        """The condition as text, e.g. ``a**2 - 4 != 0``."""
+        return f"{sp.expand(self.expr)} != 0"
+
+    def latex(self) -> str:
+        """The condition in LaTeX, e.g. ``a^{2} - 4 \\neq 0``."""
+        return rf"{sp.latex(sp.expand(self.expr))} \neq 0"
+
+    def holds_at(self, values: dict) -> bool:
+        """Whether the condition holds at numbers for the parameters."""
+        return sp.simplify(self.expr.subs(values)) != 0
+
+
+def denominator_conditions(D: sp.Poly) -> tuple[GenericCondition, ...]:
+    """Where partial fractions over the denominator ``D`` (symbolic coefficients) hold.
+
+    One :class:`GenericCondition` per requirement that involves the parameters and is
+    not known to hold from their assumptions (a positive ``a`` makes ``a ≠ 0`` hold):
+    the leading coefficient, the discriminant of each quadratic factor and the resultant
+    of each pair of factors of degree ≤ 2. Factors of higher degree are left out: a sum
+    over their roots carries its own condition, and the discriminant of a symbolic
+    biquadratic (an undamped two-mass chain) is a page long. Empty for numeric
+    coefficients.
+
+    Examples
+    --------
+    >>> s, a = sp.symbols("s a")
+    >>> [c.meaning for c in denominator_conditions(sp.Poly((s + 1) * (s + a), s))]
+    ['a - 1 != 0']
+    >>> denominator_conditions(sp.Poly(s**2 + 2*s + 5, s))
+    ()
+    """
+    D = sp.Poly(D.as_expr(), D.gen)
+    if not D.free_symbols - {D.gen}:
+        return ()
+    found: list[GenericCondition] = []
+    one = sp.Poly(1, D.gen)
+
+    def keep(condition: GenericCondition) -> None:
+        value = condition.expr
+        if value.free_symbols and value.is_zero is not False \
+                and all(sp.expand(value - c.expr) != 0 for c in found):
+            found.append(condition)
+
+    leading, factors = D.factor_list()
+    lc = leading * sp.Mul(*(f.LC() ** m for f, m in factors))
+    keep(GenericCondition(D, one, leading=lc))
+    primitive = [f for f, _ in factors if 0 < f.degree() <= 2]
+    for i, q in enumerate(primitive):
+        if q.degree() == 2:
+            keep(GenericCondition(q, one))
+        for r in primitive[i + 1:]:
+            if q.free_symbols - {D.gen} or r.free_symbols - {D.gen}:
+                keep(GenericCondition(q, r))
+    return tuple(found)
 
 
 def residue_scale(k: int) -> sp.Rational:

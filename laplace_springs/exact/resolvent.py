@@ -50,6 +50,21 @@ class Resolvent:
     adjugate: sp.ImmutableMatrix
     numerators: tuple[sp.Poly, ...]
 
+    def __repr__(self) -> str:
+        """``Resolvent(2 coordinates, Δ(λ) = 25λ⁴ + ...)``: the scaled Δ(λ), shortened if long.
+
+        >>> from laplace_springs.model.scene import Scene
+        >>> resolvent(Scene.from_matrices(M=[[1]], C=[[2]], K=[[5]], x0=[1], v0=[0]))
+        Resolvent(1 coordinate, Δ(λ) = lambda**2 + 2*lambda + 5)
+        """
+        delta = sp.sstr(self.integer_characteristic_polynomial.as_expr())
+        if len(delta) > 80:
+            cut = delta.rfind(" + ", 0, 70)
+            cut = max(cut, delta.rfind(" - ", 0, 70))
+            delta = f"{delta[:cut if cut > 0 else 70]} + ... (degree {self.determinant.degree()})"
+        n = self.scene.n
+        return f"Resolvent({n} coordinate{'' if n == 1 else 's'}, Δ(λ) = {delta})"
+
     @property
     def variable(self) -> sp.Symbol:
         """The transform variable λ."""

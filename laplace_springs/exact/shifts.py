@@ -47,7 +47,7 @@ from ..model.errors import InversionError
 from .real_terms import Term
 
 __all__ = ["DelaySplit", "split_delays", "MAX_DELAY_POWER", "shift_terms", "combine_terms", "difference_solution",
-           "proved_zero", "order_delays"]
+           "proved_zero", "order_delays", "is_resonant"]
 
 _HYPERBOLIC = (sp.sinh, sp.cosh, sp.tanh, sp.coth, sp.sech, sp.csch)
 
@@ -493,6 +493,20 @@ def _resonant(alpha: sp.Expr, beta: sp.Expr, period: sp.Expr, sign: int) -> bool
         return True
     raise InversionError(f"cannot decide whether the pole {alpha} + {beta}*I resonates with the "
                          f"period {period} (beta*P/(2*pi) = {ratio} is within 1e-30 of {nearest})")
+
+
+def is_resonant(term: Term, period: sp.Expr, sign: int = 1) -> bool:
+    """Whether the exponent of ``term`` is a pole of 1/(1 - σe^{-Ps}) (σ e^{pP} = 1).
+
+    Examples
+    --------
+    >>> is_resonant(Term("oscillatory", 0, 0, sp.pi, 1, 0), 2), is_resonant(Term("real", 0, -1, 0, 1, 0), 2)
+    (True, False)
+    """
+    if term.kind == "hyperbolic":
+        return False
+    _check_kind(term)
+    return _resonant(term.alpha, term.beta if term.kind == "oscillatory" else sp.S.Zero, period, sign)
 
 
 def _resonant_terms(term: Term, period: sp.Expr) -> list[Term]:

@@ -26,7 +26,9 @@ from typing import Any
 import sympy as sp
 
 from .errors import SceneError
-from .numbers import parse_expression, to_exact
+from .numbers import ALLOWED_FUNCTIONS, parse_expression, to_exact
+from .periodic import PERIODIC_FUNCTIONS, Periodic, common_period
+from .sampled import Sampled
 from .symbols import TIME, lam
 
 __all__ = [
@@ -85,7 +87,8 @@ def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | 
     """
     if isinstance(value, str):
         expr = parse_expression(value.strip(), entry, variables=parameters,
-                                expected="an expression in t")
+                                expected="an expression in t",
+                                allowed_functions={**ALLOWED_FUNCTIONS, **PERIODIC_FUNCTIONS})
     elif isinstance(value, sp.Basic):
         time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
         expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)
@@ -183,6 +186,11 @@ class InputTransform:
         ``(τ, R_τ(s))`` pairs, τ ≥ 0 increasing, R_τ a rational function of ``s``.
     variable : sympy.Symbol
         The transform variable s.
+    period : sympy.Expr or None
+        T of the periodic inputs (:class:`~laplace_springs.model.periodic.Periodic`), if any.
+    periodic : tuple of (sympy.Expr, sympy.Expr)
+        ``(τ, R_τ(s))`` with 0 ≤ τ < T: the periodic inputs' transform is
+        Σ_τ e^{-sτ} R_τ(s) / (1 - e^{-sT}) (one period over the periodic factor).
 
     Examples
     --------
@@ -193,11 +201,17 @@ class InputTransform:
 
     parts: tuple[tuple[sp.Expr, sp.Expr], ...]
     variable: sp.Symbol
+    period: sp.Expr | None = None
+    periodic: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
 
     def as_expr(self) -> sp.Expr:
         """The transform as one expression with explicit ``exp(-s τ)`` factors."""
         s = self.variable
-        return sp.Add(*(R * sp.exp(-s * tau) for tau, R in self.parts))
+        total = sp.Add(*(R * sp.exp(-s * tau) for tau, R in self.parts))
+        if self.period is None:
+            return total
+        return total + sp.Add(*(R * sp.exp(-s * tau) for tau, R in self.periodic)) / (
+            1 - sp.exp(-s * self.period))
 
 
 @dataclass(frozen=True)
@@ -257,7 +271,9 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     if s is None:
         s = lam
     try:
-        atoms = [atom for term in sp.Add.make_args(sp.expand(f)) for atom in _term_atoms(term)]
+        terms = sp.Add.make_args(sp.expand(f))
+        atoms = [atom for term in terms if not term.has(Periodic) for atom in _term_atoms(term)]
+        period, periodic = _periodic_parts([term for term in terms if term.has(Periodic)], entry, s)
     except _Unsupported as exc:
         why = exc.why or f"{exc.factor} is not {_KINDS}"
         raise SceneError(f"{entry}: {f} is not supported: {why}") from None
@@ -269,7 +285,33 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
         R = _real_rational(by_delay[tau], s)
         if R != 0:
             parts.append((tau, R))
-    return InputTransform(tuple(parts), s)
+    return InputTransform(tuple(parts), s, period, periodic)
+
+
+def _periodic_parts(terms: list[sp.Expr], entry: str, s: sp.Symbol
+                    ) -> tuple[sp.Expr | None, tuple[tuple[sp.Expr, sp.Expr], ...]]:
+    """(P, parts) with Σ terms = Σ_τ e^{-sτ} R_τ(s)/(1 - e^{-sP}), 0 ≤ τ < P.
+
+    Each term is c·periodic(g, T) (c free of t); periods T | P are brought to the common
+    period P: 1/(1 - e^{-sT}) = Σ_{k < P/T} e^{-skT}/(1 - e^{-sP}).
+    """
+    if not terms:
+        return None, ()
+    found = []
+    for term in terms:
+        waves = [f for f in sp.Mul.make_args(term) if f.has(t)]
+        if len(waves) != 1 or not isinstance(waves[0], Periodic):
+            raise _Unsupported(term, f"{term} is not a constant times one periodic input")
+        found.append((term / waves[0], waves[0]))
+    P = common_period([wave.period for _, wave in found])
+    sums: dict[sp.Expr, sp.Expr] = {}
+    for c, wave in found:
+        for tau, R in input_transform(c * wave.window, entry, s).parts:
+            for k in range(int(P / wave.period)):
+                sums[tau + k * wave.period] = sums.get(tau + k * wave.period, sp.S.Zero) + R
+    parts = tuple((tau, sp.factor_terms(sp.cancel(sums[tau]))) for tau in sorted(sums, key=float)
+                  if sums[tau] != 0)
+    return P, parts
 
 
 def _linear(arg: sp.Expr, factor: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
@@ -421,7 +463,8 @@ def forcing_vector(values: Sequence[Any] | None, n: int,
         raise SceneError(f"forcing must be a sequence with one entry per coordinate, got {values!r}")
     if len(values) != n:
         raise SceneError(f"forcing has {len(values)} entries, expected {n} (one per coordinate)")
-    column = [parse_forcing(0 if v is None else v, f"forcing[{i}]", parameters) for i, v in enumerate(values)]
+    column = [parse_forcing(0 if v is None or isinstance(v, Sampled) else v, f"forcing[{i}]", parameters)
+              for i, v in enumerate(values)]  # sampled histories: Scene.sampled (model/sampled.py)
     if all(entry == 0 for entry in column):
         return None
     return sp.ImmutableMatrix(column)

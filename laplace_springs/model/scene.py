@@ -35,9 +35,20 @@ from sympy.polys.domains import GF
 from sympy.polys.matrices import DomainMatrix
 
 from . import state_space as _state_space
+from .components import Component
 from .errors import SceneError
 from .forcing import forcing_vector
 from .numbers import declare_parameters, generic_values, shown, to_exact
+from .sampled import Sampled, sampled_entries
+from .supports import (
+    SUPPORTS,
+    is_support,
+    parse_support_motion,
+    support_motion_latex,
+    support_motion_words,
+    support_name,
+    with_support_forcing,
+)
 from .symbols import TIME
 
 __all__ = [
@@ -51,9 +62,34 @@ __all__ = [
     "Scene",
 ]
 
-#: Names of fixed supports a spring or dashpot may connect to (case-insensitive).
-SUPPORTS = frozenset({"wall", "ceiling", "ground", "floor", "support", "air"})
+# SUPPORTS (from .supports): the words naming supports; wall_left, ground2 ... name supports too.
 LAYOUTS = ("horizontal", "vertical")
+
+#: Draws a scene's diagram for notebooks: ``renderer(scene, "png" | "svg")`` returns PNG
+#: bytes, SVG text or None. model/ does not import output/, so
+#: laplace_springs.output.drawing registers it when it is imported.
+_DISPLAY_HOOKS: dict[str, Callable[[Any, str], bytes | str | None]] = {}
+
+
+def register_diagram_renderer(renderer: Callable[[Any, str], bytes | str | None] | None) -> None:
+    """Set the function behind ``Scene._repr_png_`` and ``Scene._repr_svg_`` (None: no diagram).
+
+    Examples
+    --------
+    >>> from laplace_springs.output.drawing import scene_image   # registers itself
+    >>> register_diagram_renderer(None)
+    >>> print(Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0])._repr_png_())
+    None
+    >>> register_diagram_renderer(scene_image)
+    """
+    _DISPLAY_HOOKS.pop("diagram", None)
+    if renderer is not None:
+        _DISPLAY_HOOKS["diagram"] = renderer
+
+
+def _diagram(scene: Any, fmt: str) -> bytes | str | None:
+    renderer = _DISPLAY_HOOKS.get("diagram")
+    return renderer(scene, fmt) if renderer is not None else None
 
 #: Most coordinates (masses) a scene may have. A 100,000-mass chain is built in about
 #: 30 s (see benchmarks/bench_loading.py); the numeric routes take far fewer.
@@ -156,29 +192,6 @@ def _listed(names: Iterable[str]) -> str:
     if len(names) <= _LISTED:
         return ", ".join(names)
     return f"{', '.join(names[:_LISTED])}, ... ({len(names):,} in all)"
-
-
-@dataclass(frozen=True)
-class Component:
-    """A spring or dashpot between two nodes (mass names or fixed supports).
-
-    Attributes
-    ----------
-    kind : str
-        ``"spring"`` (value is a stiffness) or ``"dashpot"`` (value is a damping constant).
-    label : str
-        The component's name, e.g. ``"k1"`` or ``"mu2"``.
-    a, b : str
-        The nodes it connects: mass names, or a support name in lower case.
-    value : sympy.Expr
-        The exact stiffness or damping constant.
-    """
-
-    kind: str
-    label: str
-    a: str
-    b: str
-    value: sympy.Expr
 
 
 # ----------------------------------------------------------------------------
@@ -691,7 +704,7 @@ def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]],
     for name, value in pairs:
         if not isinstance(name, str) or not name:
             raise SceneError(f"mass names must be non-empty strings, got {shown(name)}")
-        if name.lower() in SUPPORTS:
+        if is_support(name):
             raise SceneError(f"mass name {name!r} is reserved for a fixed support")
         if name in parsed:
             raise SceneError(f"mass {name!r} is given twice")
@@ -709,10 +722,10 @@ def _node(node: Any, label: str, kind: str, masses: Mapping[str, sympy.Expr]) ->
     if isinstance(node, str):
         if node in masses:
             return node
-        if node.lower() in SUPPORTS:
-            return node.lower()
+        if is_support(node):
+            return str(support_name(node))
     known = _listed(masses)
-    supports = ", ".join(sorted(SUPPORTS))
+    supports = ", ".join(sorted(SUPPORTS)) + " (or one of them and _, - or a digit: wall_left)"
     raise SceneError(f"{kind} {label!r}: unknown node {shown(node)}; known masses: {known}; supports: {supports}")
 
 
@@ -725,7 +738,7 @@ def _component(kind: str, label: Any, spec: Any, masses: Mapping[str, sympy.Expr
     a, b = (_node(node, label, kind, masses) for node in spec[:2])
     if a == b:
         raise SceneError(f"{kind} {label!r} connects {a!r} to itself")
-    if a in SUPPORTS and b in SUPPORTS:
+    if is_support(a) and is_support(b):
         raise SceneError(f"{kind} {label!r} connects two supports ({a!r}, {b!r}); it would carry no motion")
     value = convert(spec[2], f"{kind} {label!r}")
     if value.is_negative:
@@ -847,6 +860,14 @@ class Scene:
         The declared parameters, sorted by name: those declared when the scene was
         built (``parameters=[...]``, a ``[parameters]`` table) and every Symbol in its
         data. See :meth:`subs` to give them values.
+    support_motion : tuple of (str, sympy.Expr)
+        The moving supports and their displacements u(t) (``support_motion`` of
+        :meth:`from_components`); their equivalent force is part of ``forcing``. See
+        :mod:`laplace_springs.model.supports`.
+    sampled : tuple of (Sampled or None), or None
+        Measured force histories (:func:`laplace_springs.model.sampled.sampled`), one
+        entry per coordinate, added to ``forcing``; None when there are none. Given as
+        forcing entries; they are data, not SymPy expressions.
 
     Examples
     --------
@@ -881,6 +902,8 @@ class Scene:
     mass_names: tuple[str, ...] = ()
     forcing: sympy.ImmutableMatrix | None = None
     parameters: tuple[sympy.Symbol, ...] = ()
+    support_motion: tuple[tuple[str, sympy.Expr], ...] = ()
+    sampled: tuple[Sampled | None, ...] | None = None
 
     def __post_init__(self) -> None:
         for field in ("M", "C", "K", "x0", "v0"):
@@ -918,6 +941,10 @@ class Scene:
             raise SceneError(f"mass_names has {len(self.mass_names)} entries, expected {n}")
         if self.forcing is not None:
             _check_column("forcing", self.forcing.shape, n)
+        if self.sampled is not None:  # measured force histories, apart from the formulas
+            if len(self.sampled) != n or not all(s is None or isinstance(s, Sampled) for s in self.sampled):
+                raise SceneError(f"sampled must hold {n} entries, each a Sampled or None")
+            object.__setattr__(self, "sampled", tuple(self.sampled) if any(self.sampled) else None)
         declared = declare_parameters(self.parameters, self.M, self.C, self.K, self.x0, self.v0,
                                       self.forcing)
         object.__setattr__(self, "parameters", tuple(declared[name] for name in sorted(declared)))
@@ -939,17 +966,38 @@ class Scene:
             parts.append(f"{sympy.latex(sympy.Matrix(self.C))} \\dot{{x}}")
         if any(entry != 0 for entry in self.K.values()):
             parts.append(f"{sympy.latex(sympy.Matrix(self.K))} x")
-        right = sympy.latex(sympy.Matrix(self.forcing)) if self.is_forced else "0"
+        right = sympy.latex(sympy.Matrix(self.forcing)) if self.forcing is not None and self.is_forced else "0"
+        if self.sampled is not None:  # a measured history is shown by its size, not its samples
+            column = self.forcing if self.forcing is not None else sympy.zeros(self.n, 1)
+            right = "\\left[\\begin{matrix}" + " \\\\ ".join(
+                sympy.latex(column[i]) if s is None else (
+                    ("" if column[i] == 0 else sympy.latex(column[i]) + " + ")
+                    + f"\\text{{sampled ({s.kind}, {s.times.size} samples)}}")
+                for i, s in enumerate(self.sampled)) + "\\end{matrix}\\right]"
         start = (f"x(0) = {sympy.latex(sympy.Matrix(self.x0))},\\ "
                  f"\\dot{{x}}(0) = {sympy.latex(sympy.Matrix(self.v0))}")
+        moving = support_motion_latex(self)
+        start += f",\\quad {moving}" if moving else ""
         return f"${' + '.join(parts)} = {right},\\quad {start}$"
+
+    def _repr_png_(self) -> bytes | None:
+        """The scene's diagram as PNG bytes (Jupyter shows it); None without matplotlib or a
+        drawable layout (see :func:`laplace_springs.draw_scene`)."""
+        out = _diagram(self, "png")
+        return out if isinstance(out, bytes) else None
+
+    def _repr_svg_(self) -> str | None:
+        """The scene's diagram as SVG text; None without matplotlib or a drawable layout."""
+        out = _diagram(self, "svg")
+        return out if isinstance(out, str) else None
 
     def __repr__(self) -> str:
         title = f" {self.title!r}:" if self.title else ""
         damping = "damped" if self.is_damped else "undamped"
         plural = "s" if self.n != 1 else ""
         driven = ", forced" if self.is_forced else ""
-        return f"<Scene{title} {self.n} coordinate{plural}, {damping}{driven}>"
+        driven += " (sampled)" if self.sampled is not None else ""
+        return f"<Scene{title} {self.n} coordinate{plural}, {damping}{driven}{support_motion_words(self)}>"
 
     # -- properties ---------------------------------------------------------
     @property
@@ -965,7 +1013,8 @@ class Scene:
     @property
     def is_forced(self) -> bool:
         """Whether an external force acts (``forcing`` has a nonzero entry)."""
-        return self.forcing is not None and any(entry != 0 for entry in self.forcing)
+        return self.sampled is not None or (
+            self.forcing is not None and any(entry != 0 for entry in self.forcing))
 
     @property
     def free_symbols(self) -> frozenset[sympy.Symbol]:
@@ -1086,7 +1135,8 @@ class Scene:
         ``forcing`` is a sequence with one entry per coordinate, or a mapping from mass
         names or coordinate names to entries, missing ones 0. Entries are text in ``t``,
         numbers or SymPy expressions
-        (see :func:`laplace_springs.model.forcing.parse_forcing`).
+        (see :func:`laplace_springs.model.forcing.parse_forcing`). The equivalent force
+        of moving supports (``support_motion``) stays.
 
         Examples
         --------
@@ -1099,7 +1149,10 @@ class Scene:
             keys = self.names  # coordinate names x1..xn work for every scene
         values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
         declared = declare_parameters(self.parameters, forcing)
-        return dataclasses.replace(self, forcing=forcing_vector(values, self.n, declared))
+        external = forcing_vector(values, self.n, declared)  # moving supports keep driving:
+        return dataclasses.replace(self, forcing=with_support_forcing(
+            external, self.components, self.mass_names, self.support_motion),
+            sampled=sampled_entries(values))
 
     def subs(self, values: Mapping[Any, Any]) -> Scene:
         """A new scene with some parameters given values.
@@ -1147,7 +1200,8 @@ class Scene:
         return dataclasses.replace(
             self, M=apply(self.M), C=apply(self.C), K=apply(self.K), x0=apply(self.x0),
             v0=apply(self.v0), forcing=None if self.forcing is None else apply(self.forcing),
-            components=components, parameters=tuple(remaining))
+            components=components, parameters=tuple(remaining),
+            support_motion=tuple((name, u.xreplace(mapping)) for name, u in self.support_motion))
 
     def _substitution(self, values: Mapping[Any, Any]) -> dict[sympy.Symbol, sympy.Expr]:
         """Symbol -> exact value, each checked against its parameter's assumptions."""
@@ -1265,6 +1319,7 @@ class Scene:
             title=title,
             layout=layout,
             forcing=forcing_vector(forcing, n, declared),
+            sampled=sampled_entries(forcing),
             parameters=tuple(declared.values()),
         )
 
@@ -1320,6 +1375,7 @@ class Scene:
         layout: str = "horizontal",
         forcing: Any = None,
         parameters: Any = None,
+        support_motion: Mapping[str, Any] | None = None,
     ) -> Scene:
         """A scene assembled from masses, springs and dashpots.
 
@@ -1341,6 +1397,11 @@ class Scene:
             Declared parameters, as in :meth:`from_matrices`.
         title : str, optional
         layout : {"horizontal", "vertical"}, optional
+        support_motion : mapping support name -> displacement u(t), optional
+            Moving supports (base excitation), ``{"ground": "sin(3*t)/100"}``: a spring k
+            from mass i to the support pulls with k (u − x_i), a dashpot c with
+            c (u' − x_i'), so ``forcing`` gains k u + c u'. ``wall_left``, ``wall_right``,
+            ``ground2`` ... are distinct supports. See :mod:`laplace_springs.model.supports`.
 
         Returns
         -------
@@ -1370,10 +1431,12 @@ class Scene:
         ([[19/10, -7/5], [-7/5, 23/10]], [[779, -379], [-379, 479]])
         """
         _check_counts(masses, springs, dashpots)
-        declared = declare_parameters(parameters, masses, springs, dashpots, x0, v0, forcing)
+        declared = declare_parameters(parameters, masses, springs, dashpots, x0, v0, forcing,
+                                      support_motion)
         convert = _Converter(declared)
         mass_values = _parse_masses(masses, convert)
         components = _parse_components(springs, dashpots, mass_values, convert)
+        motion = parse_support_motion(support_motion, components, declared)
         mass_names = tuple(mass_values)
         index = {name: i for i, name in enumerate(mass_names)}
         n = len(mass_names)
@@ -1389,9 +1452,12 @@ class Scene:
             layout=layout,
             components=components,
             mass_names=mass_names,
-            forcing=None if forcing is None else forcing_vector(
+            forcing=with_support_forcing(None if forcing is None else forcing_vector(
                 _initial_by_mass(forcing, "forcing", mass_names), n, declared),
+                components, mass_names, motion),
             parameters=tuple(declared.values()),
+            support_motion=motion,
+            sampled=sampled_entries(_initial_by_mass(forcing, "forcing", mass_names)),
         )
 
 

@@ -17,6 +17,8 @@ A scene file describes a scene in one of three forms. Components::
     v0 = ["0", "1"]
     [forcing]                      # optional: mass name = force in t (or an array)
     m1 = "10*cos(20*t)"
+    [support_motion]               # optional: moving support = its displacement u(t)
+    ceiling = "sin(3*t)/100"       # (wall_left, ground2 ... name distinct supports)
     [parameters]                   # optional: names the text may use as symbols
     F0 = "amplitude of the force"  # a description (positive), or an assumption:
     a = "real"                     # positive, nonnegative, real or negative
@@ -66,6 +68,7 @@ from typing import Any
 
 from .errors import SceneError
 from .numbers import shown
+from .sampled import resolve_csv_entries
 from .scene import MAX_COMPONENTS, MAX_COORDINATES, MAX_MATRIX_INPUT_SIZE, Scene
 
 __all__ = ["MAX_FILE_BYTES", "bundled_scenes", "load_scene", "scene_from_toml_text"]
@@ -83,7 +86,7 @@ _FIRST_ROW = re.compile(r"^[ \t]*(M|A)[ \t]*=[ \t]*\[\s*\[([^\]]*)\]", re.M)
 
 _COMMON_KEYS = ("title", "layout", "description", "initial", "forcing", "parameters")
 _FORMS = {
-    "masses": ("masses", "springs", "dashpots"),
+    "masses": ("masses", "springs", "dashpots", "support_motion"),
     "matrices": ("matrices", "names"),
     "normalized": ("normalized", "names"),
 }
@@ -127,7 +130,7 @@ def _form_of(data: Mapping[str, Any]) -> str:
     return form
 
 
-def _scene_from_data(data: Mapping[str, Any]) -> Scene:
+def _scene_from_data(data: Mapping[str, Any], base: str | os.PathLike[str] | None = None) -> Scene:
     scene = _unforced_scene(data)
     forcing = data.get("forcing")
     if forcing is None:
@@ -135,7 +138,7 @@ def _scene_from_data(data: Mapping[str, Any]) -> Scene:
     if not isinstance(forcing, (list, dict)):
         raise SceneError(f"'forcing' must be an array (one entry per coordinate) or a table "
                          f"(mass name = expression), got {shown(forcing)}")
-    return scene.with_forcing(forcing)
+    return scene.with_forcing(resolve_csv_entries(forcing, base))  # {csv = ...}: model/sampled.py
 
 
 def _parameters(data: Mapping[str, Any]) -> dict[str, Any]:
@@ -165,6 +168,7 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
             title=title,
             layout=layout,
             parameters=parameters,
+            support_motion=_table(data, "support_motion") or None,
         )
     matrices = _table(data, form)
     _check_keys(matrices, _FORM_TABLES[form], f"in [{form}]")
@@ -187,8 +191,14 @@ def _names(data: Mapping[str, Any]) -> list[str] | None:
     return names
 
 
-def scene_from_toml_text(text: str, source: str = "<string>") -> Scene:
+def scene_from_toml_text(text: str, source: str = "<string>", *,
+                         base: str | os.PathLike[str] | None = None) -> Scene:
     """A scene from the text of a TOML scene file.
+
+    A forcing entry may point at a CSV file of samples, ``m1 = { csv = "force.csv",
+    time = "t", value = "F", kind = "linear" }`` (see :mod:`laplace_springs.model.sampled`);
+    a relative path is taken relative to ``base`` (the scene file's folder for
+    :func:`load_scene`; the current directory when None).
 
     Parameters
     ----------
@@ -240,7 +250,7 @@ def scene_from_toml_text(text: str, source: str = "<string>") -> Scene:
         raise SceneError(f"{source}: malformed TOML: arrays or tables nested too deeply for "
                          "the TOML reader") from None
     try:
-        return _scene_from_data(data)
+        return _scene_from_data(data, base)
     except SceneError as exc:
         raise SceneError(f"{source}: {exc}") from None
 
@@ -380,7 +390,7 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
     """
     if _looks_like_path(name_or_path):
         path = Path(name_or_path)
-        return scene_from_toml_text(_read_path(path), source=str(path))
+        return scene_from_toml_text(_read_path(path), source=str(path), base=path.parent)
     files = _bundled_files()
     if name_or_path not in files:
         raise SceneError(

@@ -4,12 +4,19 @@ Float64 values come from the terms as a pole sum (:mod:`laplace_springs.numeric.
 times whose bound misses the target are recomputed in mpmath from the exact terms
 (escalation "mp"); ``dps`` evaluations likewise. :meth:`ExactSolution.verify` checks the
 closed form symbolically.
+
+A periodic input's response (:class:`~laplace_springs.exact.assembly.PeriodicResponse`)
+is evaluated at the reduced times w = (t − τ) mod P, formed exactly (rational
+arithmetic, or mpmath with the digits of t/P to spare for an irrational period) and
+then rounded to a double-double: the one-period formula never sees a large t, so
+float64 keeps its accuracy at t = 10⁶.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from fractions import Fraction
 from typing import Any
 
 import mpmath
@@ -17,7 +24,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.algebraic import numeric_value
-from ..exact.assembly import ExactMotion, exact_motion
+from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
 from ..model.numbers import generic_values
@@ -139,14 +146,33 @@ class ExactSolution(Solution):
         return f"ExactSolution({body})"
 
     # -- evaluation ---------------------------------------------------------------------
+    def _motion_of(self, order: int) -> ExactMotion:
+        motion = self.motion
+        for _ in range(order):
+            motion = motion.derivative()
+        return motion
+
     def _numeric(self, order: int, dps: int = 40) -> tuple[NumericTerms, ...]:
         key = (order, dps)
         cache = self.__dict__.setdefault("_numeric_cache", {})
         if key not in cache:
-            motion = self.motion
-            for _ in range(order):
-                motion = motion.derivative()
+            motion = self._motion_of(order)
             cache[key] = tuple(numeric_terms(piece.terms, dps=dps) for piece in motion.pieces)
+        return cache[key]
+
+    def _periodic_numeric(self, order: int, dps: int = 40
+                          ) -> tuple[PeriodicResponse, tuple[NumericTerms, ...], NumericTerms] | None:
+        """The periodic response's one-period sums and its terms in t, as pole sums."""
+        if self.motion.periodic is None:
+            return None
+        key = ("periodic", order, dps)
+        cache = self.__dict__.setdefault("_numeric_cache", {})
+        if key not in cache:
+            periodic = self._motion_of(order).periodic
+            assert periodic is not None
+            sums = tuple(numeric_terms(rows, dps=dps) for rows in periodic.sums)
+            rest = numeric_terms(tuple(r + t for r, t in zip(periodic.resonant, periodic.tail)), dps=dps)
+            cache[key] = (periodic, sums, rest)
         return cache[key]
 
     def _shifted(self, times: Times, delay: sp.Expr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -170,6 +196,17 @@ class ExactSolution(Solution):
                 part, bound = float_values(data, n, hi, lo)
                 values[:, on] += part
                 bounds[:, on] += bound
+        periodic = self._periodic_numeric(order)
+        if periodic is not None:
+            response, sums, rest = periodic
+            for tau, data in zip(response.delays, sums):
+                hi, lo = _reduced_float(times, tau, response.period)
+                part, bound = float_values(data, n, hi, lo)
+                values += part
+                bounds += bound
+            part, bound = float_values(rest, n, times.hi, times.lo)
+            values += part
+            bounds += bound
         return values, bounds
 
     def _mp(self, times: Times, order: int, digits: int, floor: float) -> tuple[list, list]:
@@ -193,6 +230,18 @@ class ExactSolution(Solution):
                     for i in range(n):
                         total[i][j] += part[i][k]
                         bounds[i][j] += bound[i][k]
+        periodic = self._periodic_numeric(order)
+        if periodic is not None:
+            response, sums, rest = periodic
+            runs = [(data, _reduced_mp(times, tau, response.period, work))
+                    for tau, data in zip(response.delays, sums)] + [(rest, stamps)]
+            for data, at in runs:
+                part, bound, _ = mp_values(data, n, at, digits, [floor] * len(at))
+                with mpmath.workdps(work):
+                    for j in range(len(times)):
+                        for i in range(n):
+                            total[i][j] += part[i][j]
+                            bounds[i][j] += bound[i][j]
         return total, bounds
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
@@ -232,6 +281,10 @@ class ExactSolution(Solution):
         s = self.scene
         generic = generic_values(s.free_symbols)
         x = sp.Matrix(self.x)
+        # a periodic response's floor((t - τ)/P) is constant between switching times:
+        # held as a symbol while differentiating, given its value at each sample time
+        held = {f: sp.Dummy(f"floor{k}") for k, f in enumerate(sorted(x.atoms(sp.floor), key=str))}
+        x = x.xreplace(held)
         v = x.diff(TIME)
         force = sp.Matrix(s.forcing) if s.forcing is not None and s.is_forced else sp.zeros(s.n, 1)
         force = force.replace(sp.Heaviside, lambda arg, *_: sp.Heaviside(arg, 1))  # t = 0⁺
@@ -239,22 +292,87 @@ class ExactSolution(Solution):
         residual = residual.replace(sp.DiracDelta, lambda *args: sp.S.Zero)  # 0 off the delays
         jump = self.initial_jump
         x, v = (m.replace(sp.DiracDelta, lambda *a: sp.S.Zero) for m in (x, v))
+        x, v = (_at_time(m, held, 0) for m in (x, v))
         start = jump_residuals(s, x.subs(TIME, 0) - s.x0, v.subs(TIME, 0) - s.v0,
                                jump.impulses, load=self.motion.impulsive_load())
         start = [sp.sympify(e).xreplace(generic) for e in start]
-        times = _sample_times(samples, [piece.delay for piece in self.pieces])
+        periodic = self.motion.periodic
+        times = _sample_times(samples, [piece.delay for piece in self.pieces],
+                              None if periodic is None else (periodic.delays, periodic.period))
         sizes = [*s.x0, *s.v0, *(f.subs(TIME, tv) for f in force.xreplace(generic) for tv in times)]
         scale = max(1.0, _size([e.replace(sp.DiracDelta, lambda *a: 0) for e in sizes], generic, 20))
-        ode = _size([e.subs(TIME, tv) for e in residual for tv in times], {}, dps)
+        ode = _size([_at_time(e, held, tv).subs(TIME, tv) for e in residual for tv in times], {}, dps)
         return Verification(ode / scale, _size(start, generic, dps) / scale, tolerance)
 
 
-def _sample_times(samples: Sequence[Any], delays: Sequence[sp.Expr]) -> list[sp.Expr]:
-    """t = 0 and the samples, moved off the switching times of delayed inputs."""
+def _exact_number(value: sp.Expr) -> Fraction | None:
+    return Fraction(int(value.p), int(value.q)) if isinstance(value, sp.Rational) else None
+
+
+def _reduced_exact(times: Times, tau: sp.Expr, period: sp.Expr) -> list[Fraction] | None:
+    """(t − τ) mod P exactly for rational τ and P (None otherwise)."""
+    d, P = _exact_number(tau), _exact_number(period)
+    if d is None or P is None:
+        return None
+    out = []
+    for j in range(len(times)):
+        v = times.exact(j) - d
+        out.append(v - P * math.floor(v / P))
+    return out
+
+
+def _reduced_mp(times: Times, tau: sp.Expr, period: sp.Expr, dps: int) -> list[mpmath.mpf]:
+    """(t − τ) mod P in [0, P) as mpf good to ``dps`` digits (relative to P)."""
+    exact = _reduced_exact(times, tau, period)
+    with mpmath.workdps(dps):
+        if exact is not None:
+            return [mpmath.mpf(w.numerator) / w.denominator for w in exact]
+    largest = max((abs(float(times.exact(j))) for j in range(len(times))), default=0.0)
+    work = dps + 10 + max(0, math.ceil(math.log10(max(largest, 1.0) / float(period))))
+    with mpmath.workdps(work):
+        P, d = mp_value(period, work), mp_value(tau, work)
+        out = []
+        for j in range(len(times)):
+            v = times.mpf(j) - d
+            out.append(v - P * mpmath.floor(v / P))
+    with mpmath.workdps(dps):
+        return [+w for w in out]
+
+
+def _reduced_float(times: Times, tau: sp.Expr, period: sp.Expr) -> tuple[np.ndarray, np.ndarray]:
+    """(t − τ) mod P as double-doubles hi + lo, formed exactly before rounding."""
+    exact = _reduced_exact(times, tau, period)
+    if exact is None:
+        with mpmath.workdps(40):
+            values = _reduced_mp(times, tau, period, 40)
+            hi = np.array([float(w) for w in values])
+            lo = np.array([float(w - h) for w, h in zip(values, hi)])
+        return hi, lo
+    hi = np.array([float(w) for w in exact])
+    lo = np.array([float(w - Fraction(h)) for w, h in zip(exact, hi)])
+    return hi, lo
+
+
+def _at_time(expr: Any, held: dict, time: Any) -> Any:
+    """``expr`` with the held floor((t − τ)/P) symbols given their values at ``time``."""
+    return expr.xreplace({symbol: f.subs(TIME, time) for f, symbol in held.items()}) if held else expr
+
+
+def _sample_times(samples: Sequence[Any], delays: Sequence[sp.Expr],
+                  periodic: tuple[Sequence[sp.Expr], sp.Expr] | None = None) -> list[sp.Expr]:
+    """t = 0 and the samples, moved off the switching times of delayed inputs (and of
+    periodic ones: τ + kP)."""
+
+    def switching(value: sp.Expr) -> bool:
+        if any(value == d for d in delays):
+            return True
+        return periodic is not None and any(sp.simplify((value - tau) / periodic[1]).is_integer
+                                            for tau in periodic[0])
+
     times: list[sp.Expr] = [sp.S.Zero]
     for tv in samples:
         value = sp.Rational(str(tv))
-        while any(value == d for d in delays):
+        while switching(value):
             value += sp.Rational(1, 7)
         times.append(value)
     return times

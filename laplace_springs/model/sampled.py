@@ -1,0 +1,364 @@
+"""Sampled (measured) force histories: a force given by its values at sample times.
+
+A :class:`Sampled` entry is a forcing entry like a formula, but it is data, not a SymPy
+expression (10⁵ samples would be 10⁵ Heaviside pieces). The force is the interpolant of
+the samples:
+
+* ``kind="linear"``: the straight line between neighbouring samples (piecewise linear,
+  continuous);
+* ``kind="zoh"``: zero-order hold, the value of sample k on [t_k, t_{k+1}) (the last
+  value is reached only at the last time, so it plays no role).
+
+**Outside the data's time span the force is zero**: before the first sample time and
+after the last one. A force that should last past the data needs samples up to then.
+The response is exact for the interpolant (see :mod:`laplace_springs.numeric.sampled`).
+
+Read a CSV column with :meth:`Sampled.from_csv` (or :func:`sampled_from_csv`); a scene
+file points at one with ``forcing = { m1 = { csv = "force.csv", time = "t", value =
+"F", kind = "linear" } }`` (the path relative to the scene file).
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import SceneError
+from .numbers import shown
+
+__all__ = ["KINDS", "MAX_CSV_BYTES", "Sampled", "sampled", "sampled_from_csv",
+           "sampled_entries", "formula_part", "resolve_csv_entries"]
+
+#: The interpolants: piecewise linear, or piecewise constant (zero-order hold).
+KINDS = ("linear", "zoh")
+#: Largest CSV file read (64 MiB: about 2 million rows of two numbers).
+MAX_CSV_BYTES = 64 * 2**20
+_CSV_KEYS = ("csv", "time", "value", "kind", "delimiter")
+
+
+def _array(values: Any, name: str) -> np.ndarray:
+    """A flat float64 array, or a SceneError naming the first bad entry."""
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise SceneError(f"sampled {name} must be a sequence of numbers, got {shown(values)}")
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        for index, value in enumerate(values):
+            try:
+                float(value)
+            except (TypeError, ValueError):
+                raise SceneError(f"sampled {name}[{index}] = {shown(value)} is not a number") from None
+        raise SceneError(f"sampled {name} must be a flat sequence of numbers") from None
+    if array.ndim != 1:
+        raise SceneError(f"sampled {name} must be one-dimensional, got shape {array.shape}")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise SceneError(f"sampled {name}[{int(bad[0])}] = {float(array[bad[0]])!r} is not finite")
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class Sampled:
+    """A force history given by samples: its interpolant, zero outside the data's span.
+
+    Build it with :func:`sampled` (checked) or :meth:`from_csv`.
+
+    Attributes
+    ----------
+    times : numpy.ndarray
+        float64, strictly increasing, ≥ 0, at least 2.
+    values : numpy.ndarray
+        float64, finite, one per time.
+    kind : {"linear", "zoh"}
+        Piecewise linear interpolation, or zero-order hold.
+    source : str
+        Where the data came from (a file name), for messages; may be empty.
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    kind: str = "linear"
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise SceneError(f"sampled kind must be one of {', '.join(KINDS)}, got {shown(self.kind)}")
+        times, values = _array(self.times, "times"), _array(self.values, "values")
+        if times.size != values.size:
+            raise SceneError(f"sampled times has {times.size} entries but values has {values.size}; "
+                             "they must have the same length")
+        if times.size < 2:
+            raise SceneError(f"sampled data needs at least 2 samples (the force lives between the "
+                             f"first and the last time), got {times.size}")
+        if times[0] < 0:
+            raise SceneError(f"sampled times[0] = {float(times[0])!r} is negative; the motion starts at t = 0")
+        step = np.diff(times)
+        bad = np.flatnonzero(~(step > 0))
+        if bad.size:
+            k = int(bad[0]) + 1
+            raise SceneError(f"sampled times must be strictly increasing: times[{k}] = {float(times[k])!r} "
+                             f"follows times[{k - 1}] = {float(times[k - 1])!r}")
+        times.setflags(write=False)
+        values.setflags(write=False)
+        object.__setattr__(self, "times", times)
+        object.__setattr__(self, "values", values)
+
+    def __repr__(self) -> str:
+        where = f" from {self.source!r}" if self.source else ""
+        return (f"<Sampled {self.kind}: {self.times.size} samples on "
+                f"[{self.times[0]:g}, {self.times[-1]:g}]{where}>")
+
+    @property
+    def start(self) -> float:
+        """The first sample time: the force is zero before it."""
+        return float(self.times[0])
+
+    @property
+    def end(self) -> float:
+        """The last sample time: the force is zero after it."""
+        return float(self.times[-1])
+
+    def slopes(self) -> np.ndarray:
+        """The slope of the interpolant on each interval (zeros for ``"zoh"``)."""
+        if self.kind == "zoh":
+            return np.zeros(self.times.size - 1)
+        return np.diff(self.values) / np.diff(self.times)
+
+    def __call__(self, t: Any) -> np.ndarray:
+        """The interpolated force at times ``t`` (zero outside [start, end]).
+
+        Intervals are closed on the left: at a sample time the value is the sample's,
+        for "zoh" too.
+
+        Examples
+        --------
+        >>> f = sampled([0, 1, 3], [0, 2, 0])
+        >>> f([0.5, 1, 2, 3, 4]).tolist()
+        [1.0, 2.0, 1.0, 0.0, 0.0]
+        >>> sampled([0, 1, 3], [0, 2, 0], kind="zoh")([0.5, 1, 2.9, 3]).tolist()
+        [0.0, 2.0, 2.0, 0.0]
+        """
+        t = np.asarray(t, dtype=float)
+        k = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, self.times.size - 2)
+        tau = t - self.times[k]
+        out = self.values[k] + self.slopes()[k] * tau
+        if self.kind == "linear":
+            out = np.where(t == self.end, self.values[-1], out)
+        return np.where((t < self.start) | (t > self.end) | ((t == self.end) & (self.kind == "zoh")),
+                        0.0, out)
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str], time: str = "t", value: str | None = None,
+                 kind: str = "linear", *, delimiter: str = ",") -> Sampled:
+        """Read a force history from two columns of a CSV file with a header row.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+        time : str
+            The header of the time column.
+        value : str, optional
+            The header of the force column; by default the one column besides ``time``.
+        kind : {"linear", "zoh"}
+        delimiter : str
+            The field separator (``","``; ``";"`` or ``"\\t"`` for other exports).
+
+        Cells are read with ``float`` (decimal text such as ``1.5``, ``-2e-3``; never
+        evaluated). Blank lines and lines starting with ``#`` are skipped.
+
+        Raises
+        ------
+        SceneError
+            For a missing file or column, a cell that is not a number (naming its line),
+            more than :data:`MAX_CSV_BYTES`, and every check of :func:`sampled`.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> folder = pathlib.Path(tempfile.mkdtemp())
+        >>> _ = (folder / "force.csv").write_text("t,F\\n0,0\\n0.5,1.5\\n1,0\\n")
+        >>> Sampled.from_csv(folder / "force.csv", time="t", value="F")
+        <Sampled linear: 3 samples on [0, 1] from 'force.csv'>
+        """
+        path = Path(path)
+        text = _read_csv_text(path)
+        rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
+        numbered = [(line, row) for line, row in enumerate(rows, start=1)
+                    if row and any(cell.strip() for cell in row) and not row[0].lstrip().startswith("#")]
+        if not numbered:
+            raise SceneError(f"{path.name}: the CSV file is empty")
+        header = [cell.strip() for cell in numbered[0][1]]
+        columns = [_column(header, time, "time", path.name)]
+        if value is None:
+            others = [name for name in header if name != time]
+            if len(others) != 1:
+                raise SceneError(f"{path.name}: say which column is the force (value=...); "
+                                 f"columns: {', '.join(header)}")
+            value = others[0]
+        columns.append(_column(header, value, "value", path.name))
+        data = np.empty((len(numbered) - 1, 2))
+        for r, (line, row) in enumerate(numbered[1:]):
+            for c, index in enumerate(columns):
+                if index >= len(row):
+                    raise SceneError(f"{path.name}, line {line}: no {header[index]!r} entry")
+                data[r, c] = _number(row[index], f"{path.name}, line {line}, column {header[index]!r}")
+        try:
+            return cls(data[:, 0], data[:, 1], kind, path.name)
+        except SceneError as exc:
+            raise SceneError(f"{path.name}: {exc}") from None
+
+
+def _read_csv_text(path: Path) -> str:
+    try:
+        with path.open("rb") as file:
+            data = file.read(MAX_CSV_BYTES + 1)
+    except OSError as exc:
+        raise SceneError(f"cannot read CSV file {str(path)!r}: {exc.strerror or exc}") from None
+    if len(data) > MAX_CSV_BYTES:
+        raise SceneError(f"CSV file {str(path)!r} has more than {MAX_CSV_BYTES:,} bytes (MAX_CSV_BYTES)")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"CSV file {str(path)!r} is not UTF-8 text: {exc}") from None
+
+
+def _column(header: list[str], name: str, role: str, where: str) -> int:
+    if name not in header:
+        raise SceneError(f"{where}: no column {name!r} for the {role}; columns: {', '.join(header)}")
+    return header.index(name)
+
+
+def _number(cell: str, where: str) -> float:
+    text = cell.strip()
+    try:
+        value = float(text)  # decimal text only: float() evaluates nothing
+    except ValueError:
+        raise SceneError(f"{where}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise SceneError(f"{where}: {text!r} is not finite")
+    return value
+
+
+def sampled(times: Any, values: Any, kind: str = "linear") -> Sampled:
+    """A sampled force history, to use as a forcing entry.
+
+    The force is the interpolant of the samples (``"linear"``, or ``"zoh"`` for piecewise
+    constant) and **zero outside the data's time span** [times[0], times[-1]].
+
+    Parameters
+    ----------
+    times : array_like
+        Strictly increasing, finite, ≥ 0; at least 2.
+    values : array_like
+        Finite, one per time.
+    kind : {"linear", "zoh"}
+
+    Raises
+    ------
+    SceneError
+        Naming the offending index and value.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> from laplace_springs.model.sampled import sampled
+    >>> f = sampled([0, 0.5, 1], [0, 1, 0])
+    >>> f
+    <Sampled linear: 3 samples on [0, 1]>
+    >>> scene = ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[0], v0=[0], forcing=[f])
+    >>> scene
+    <Scene 1 coordinate, undamped, forced (sampled)>
+    >>> sampled([0, 2, 1], [0, 0, 0])
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: sampled times must be strictly increasing: times[2] = 1.0 follows times[1] = 2.0
+
+    ``sampled.from_csv`` reads a CSV column (see :meth:`Sampled.from_csv`).
+    """
+    return Sampled(times, values, kind)
+
+
+def sampled_from_csv(path: str | os.PathLike[str], time: str = "t", value: str | None = None,
+                     kind: str = "linear", *, delimiter: str = ",") -> Sampled:
+    """:meth:`Sampled.from_csv`: a force history from two columns of a CSV file.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "f.csv"
+    >>> _ = path.write_text("time;force\\n0;1\\n2;1\\n")
+    >>> sampled_from_csv(path, time="time", delimiter=";", kind="zoh").values.tolist()
+    [1.0, 1.0]
+    """
+    return Sampled.from_csv(path, time, value, kind, delimiter=delimiter)
+
+
+sampled.from_csv = Sampled.from_csv  # type: ignore[attr-defined]
+
+
+def sampled_entries(values: Any) -> tuple[Sampled | None, ...] | None:
+    """The sampled entries of a forcing sequence, per coordinate (None where a formula
+    is), or None when there are none (see ``Scene.sampled``).
+
+    Examples
+    --------
+    >>> kept = sampled_entries(["cos(t)", sampled([0, 1], [1, 1])])
+    >>> kept[0], kept[1].kind
+    (None, 'linear')
+    >>> sampled_entries(["cos(t)", 0]) is None
+    True
+    """
+    if not isinstance(values, (list, tuple)):
+        return None
+    if not any(isinstance(value, Sampled) for value in values):
+        return None
+    return tuple(value if isinstance(value, Sampled) else None for value in values)
+
+
+def formula_part(scene: Any) -> Any:
+    """The scene without its sampled entries (formula forcing and initial data kept)."""
+    return dataclasses.replace(scene, sampled=None)
+
+
+def resolve_csv_entries(forcing: Any, base: str | os.PathLike[str] | None) -> Any:
+    """A scene file's forcing with ``{csv = ..., time = ..., value = ..., kind = ...}``
+    tables replaced by :class:`Sampled` entries (paths relative to ``base``).
+
+    Examples
+    --------
+    >>> resolve_csv_entries({"m1": "cos(t)"}, None)
+    {'m1': 'cos(t)'}
+    """
+    if isinstance(forcing, dict):
+        return {key: _csv_entry(value, f"forcing.{key}", base) for key, value in forcing.items()}
+    if isinstance(forcing, list):
+        return [_csv_entry(value, f"forcing[{i}]", base) for i, value in enumerate(forcing)]
+    return forcing
+
+
+def _csv_entry(value: Any, entry: str, base: str | os.PathLike[str] | None) -> Any:
+    if not isinstance(value, dict):
+        return value
+    unknown = [key for key in value if key not in _CSV_KEYS]
+    if unknown or "csv" not in value:
+        raise SceneError(f"{entry}: a sampled force is a table {{csv = \"file.csv\", time = \"t\", "
+                         f"value = \"F\", kind = \"linear\"}}; "
+                         + (f"unknown key {shown(unknown[0])}" if unknown else "it needs 'csv'"))
+    for key in _CSV_KEYS:
+        if key in value and not isinstance(value[key], str):
+            raise SceneError(f"{entry}.{key} must be a string, got {shown(value[key])}")
+    path = Path(value["csv"])
+    if base is not None and not path.is_absolute():
+        path = Path(base) / path
+    try:
+        return Sampled.from_csv(path, value.get("time", "t"), value.get("value"),
+                                value.get("kind", "linear"), delimiter=value.get("delimiter", ","))
+    except SceneError as exc:
+        raise SceneError(f"{entry}: {exc}") from None
