@@ -16,9 +16,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "laplace_springs"
 
 #: Stages in data-flow order; a module may import only its own stage or earlier ones.
 STAGES = ("_version", "model", "exact", "numeric", "analysis", "output", "policy", "solution",
-          "routes", "solve", "bench", "cli", "__init__", "__main__")
+          "routes", "solve", "sweeps", "bench", "cli", "__init__", "__main__")
 #: Third-party packages that are not core dependencies: imported where used.
-OPTIONAL = {"matplotlib", "scipy", "control", "dask", "nbclient", "nbformat"}
+OPTIONAL = {"matplotlib", "scipy", "control", "dask", "distributed", "nbclient", "nbformat"}
 
 
 def _module_name(path: Path) -> str:

@@ -1,4 +1,5 @@
-"""The notebooks run top to bottom, are committed without outputs, and name the seed's misprints."""
+"""The notebooks run top to bottom, are committed without outputs, and the seed walkthroughs
+name the seed's misprints."""
 
 from __future__ import annotations
 
@@ -23,7 +24,10 @@ def test_notebook_is_committed_without_outputs(path):
             assert cell["outputs"] == [] and cell["execution_count"] is None, path.name
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+SEED_NOTEBOOKS = [path for path in NOTEBOOKS if path.name[:2] <= "06"]  # 07 on: beyond the seed
+
+
+@pytest.mark.parametrize("path", SEED_NOTEBOOKS, ids=lambda p: p.stem)
 def test_notebook_states_where_the_seed_misprints(path):
     text = path.read_text(encoding="utf-8")
     assert "Where the page misprints" in text or "Where the seed page misprints" in text
