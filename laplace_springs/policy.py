@@ -37,12 +37,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .analysis.modes import MODES_EXACT_MAX_COORDINATES
 from .model.errors import SceneError
+from .numeric.chebyshev import SHAPES_MAX_COORDINATES
+from .numeric.first_order import NUMERIC_MAX_COORDINATES
 
 __all__ = [
     "TARGET", "MIN_RELATIVE_BOUND", "METHODS", "ROUTES", "CERTIFIED_AUTO_MAX_COORDINATES",
     "EXACT_AUTO_MAX_COORDINATES", "EXACT_FALLBACK_MAX_COORDINATES",
     "EXACT_FORM_MAX_COORDINATES", "CERTIFIED_MAX_ORDER", "ESCALATION_DIGITS", "PROBE_TIMES",
+    "NUMERIC_MAX_COORDINATES", "GENERAL_MODAL_MAX_COORDINATES", "CLASSICAL_MAX_COORDINATES",
+    "CHEBYSHEV_MIN_COORDINATES", "CHEBYSHEV_MAX_COORDINATES",
+    "CLOSED_FORM_MAX_COORDINATES", "MODES_EXACT_MAX_COORDINATES", "KRYLOV_AUTO_MIN_COORDINATES",
     "SceneFacts", "Decision", "route_for", "after_modal_probe", "reference_scale",
     "column_scales", "escalate_columns", "check_target",
 ]
@@ -55,7 +61,7 @@ TARGET = 1e-13
 MIN_RELATIVE_BOUND = 1e-14
 
 #: The routes a solution reports as its ``method``.
-ROUTES = ("exact", "modal", "certified")
+ROUTES = ("exact", "modal", "certified", "krylov")
 #: What ``solve(method=...)`` accepts; "numeric" is the former name of "modal".
 METHODS = ("auto", *ROUTES, "numeric")
 
@@ -76,6 +82,42 @@ EXACT_FORM_MAX_COORDINATES = 8
 #: Largest first-order size (2n) the certified route takes: its roots cost about 1 s at
 #: degree 100 and grow like the cube of the degree.
 CERTIFIED_MAX_ORDER = 120
+#: Largest scene the general (non-symmetric) modal route takes: it holds the 2n x 2n
+#: first-order matrix densely and decomposes it four times (the motion and three perturbed
+#: copies for its error bound). Damped chains, one core: 200 coordinates 1 s, 400 6 s,
+#: 800 31 s; time grows like n³, memory like n². (The same number bounds the dense float64
+#: arrays of :func:`laplace_springs.numeric.first_order.scene_arrays`.)
+GENERAL_MODAL_MAX_COORDINATES = NUMERIC_MAX_COORDINATES
+#: Largest undamped or classically damped scene the symmetric modal route takes: it holds
+#: the n x n shapes (128 MB at 4,000) and a few arrays of modes x times. Measured on Rayleigh
+#: chains, 1,000 times, one core: 1,000 masses about 0.2 s (tridiagonal eigenproblem).
+#: Rayleigh-damped scenes (C = aK + bM, diagonal M) go further on the Chebyshev route.
+CLASSICAL_MAX_COORDINATES = SHAPES_MAX_COORDINATES
+#: "auto" solves Rayleigh-damped scenes (C = aK + bM exactly, a, b ≥ 0, diagonal positive
+#: M) from this many coordinates by Chebyshev expansion in M⁻¹K
+#: (:mod:`laplace_springs.numeric.chebyshev`: sparse products, no eigenvectors) instead of
+#: the symmetric eigenproblem. Measured with ``solve(scene).evaluate(times)``, 1,000 times
+#: on [0, 50], one core (benchmarks/bench_scaling.py scenes): Rayleigh chains 100 masses
+#: 9 ms against 8 ms (eigen route), 200: 10 ms against 14 ms, 400: 15 ms against 36 ms,
+#: 1,000: 37 ms against 124 ms (hand-written tridiagonal modal route); random meshes 100:
+#: 16 against 8 ms, 200: 19 against 18 ms, 400: 28 against 51 ms. Its error bound is the
+#: tighter of the two (2e-11 against 1e-9 of max |x| at t = 50 on the 100-mass chain).
+CHEBYSHEV_MIN_COORDINATES = 200
+#: Largest scene the Chebyshev route takes (the scene files' limit): it holds n x (N+1)
+#: vectors, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen (8 MB at 10,000 masses and N = 100).
+CHEBYSHEV_MAX_COORDINATES = 100_000
+#: "auto" solves scenes whose damping is not classical from this many coordinates on the
+#: krylov route (:mod:`laplace_springs.numeric.krylov`: Taylor steps of the sparse
+#: first-order system in double-double arithmetic, bounded through the energy, which the
+#: exact motion never increases) instead of the dense 2n x 2n eigenproblem. Measured on
+#: chains with one extra wall dashpot, 1,000 times on [0, 50], one core: 200 masses 0.86 s
+#: against 1.8 s (general modal route), 1,000 masses 2.7 s against 232 s and 762 MB.
+KRYLOV_AUTO_MIN_COORDINATES = 200
+#: Largest scene whose ``x`` on a modal route is a SymPy column (Float coefficients);
+#: beyond it ``x`` is a :class:`~laplace_springs.numeric.classical.ModalForm` (a sum over
+#: modes with coefficient vectors; ``x.as_matrix()`` builds the SymPy column on request):
+#: 12 rows of 24 terms are still readable, 200 rows of 400 terms are not.
+CLOSED_FORM_MAX_COORDINATES = 12
 #: Decimal digits of an escalated float64 evaluation on the exact route.
 ESCALATION_DIGITS = 20
 #: Times (in the scene's time unit) at which "auto" checks the modal route's own bound
@@ -113,6 +155,15 @@ class SceneFacts:
     first_order : bool
         The scene has a first-order form: M invertible, or massless nodes held by
         dashpots (the modal and certified routes need it).
+    classical : bool
+        Undamped or classically damped (symmetric M, C, K with C M⁻¹ K = K M⁻¹ C, checked
+        exactly): the symmetric modal route takes it.
+    rayleigh : bool
+        Rayleigh damping C = aK + bM (a, b ≥ 0, exactly) with a diagonal, positive M: the
+        Chebyshev route takes it at any size up to CHEBYSHEV_MAX_COORDINATES.
+    krylov : bool
+        Rational, unforced, diagonal positive M, K ⪰ 0 and C + Cᵀ ⪰ 0 proved exactly (by
+        diagonal dominance): the krylov route can bound its motion through the energy.
     """
 
     n: int
@@ -120,6 +171,9 @@ class SceneFacts:
     forced: bool
     rational: bool
     first_order: bool
+    classical: bool = False
+    rayleigh: bool = False
+    krylov: bool = False
 
     @property
     def certified_ok(self) -> bool:
@@ -128,7 +182,20 @@ class SceneFacts:
 
     @property
     def modal_ok(self) -> bool:
-        return self.first_order and not self.forced and not self.symbolic
+        return (self.first_order and not self.forced and not self.symbolic
+                and self.n <= (CHEBYSHEV_MAX_COORDINATES if self.rayleigh
+                               else CLASSICAL_MAX_COORDINATES if self.classical
+                               else GENERAL_MODAL_MAX_COORDINATES))
+
+    @property
+    def modal_kind(self) -> str:
+        """"chebyshev" (Rayleigh damping from CHEBYSHEV_MIN_COORDINATES, or beyond the eigen
+        route's size), "classical" (the symmetric eigenproblem of size n) or "general" (2n,
+        non-symmetric)."""
+        if self.rayleigh and (self.n >= CHEBYSHEV_MIN_COORDINATES
+                              or self.n > CLASSICAL_MAX_COORDINATES):
+            return "chebyshev"
+        return "classical" if self.classical else "general"
 
 
 @dataclass(frozen=True)
@@ -174,14 +241,56 @@ def route_for(method: str, facts: SceneFacts) -> Decision:
         return Decision("exact", f"auto: {facts.n} coordinate(s) <= EXACT_AUTO_MAX_COORDINATES = "
                         f"{EXACT_AUTO_MAX_COORDINATES} and entries the certified route does not "
                         "take: exact partial fractions take milliseconds")
+    if facts.modal_ok and facts.modal_kind == "chebyshev":
+        return Decision("modal", f"auto: {facts.n} coordinates, Rayleigh damping C = aK + bM "
+                        "(exactly) and a diagonal M: Chebyshev expansion in M⁻¹K with sparse "
+                        "products, every time at once (no eigenvectors)")
+    if facts.krylov and not facts.classical and facts.n >= KRYLOV_AUTO_MIN_COORDINATES:
+        return Decision("krylov", f"auto: {facts.n} coordinates >= KRYLOV_AUTO_MIN_COORDINATES = "
+                        f"{KRYLOV_AUTO_MIN_COORDINATES} and damping that is not classical: Taylor "
+                        "steps of the sparse first-order system, bounded through the energy "
+                        "(no dense 2n x 2n eigenproblem)")
+    if facts.modal_ok and facts.classical:
+        return Decision("modal", f"auto: {facts.n} coordinates, undamped or classically damped "
+                        "(C M⁻¹K = K M⁻¹C exactly): real modes from the symmetric eigenproblem of "
+                        "size n, each mode in closed form")
     if facts.modal_ok:
         return Decision("modal", f"auto: {facts.n} coordinates: the modal route meets the "
                         "contract in milliseconds where exact partial fractions take seconds")
+    if facts.first_order and not facts.forced:
+        _check_applicable("modal", facts)  # a size refusal, with its reason
     return Decision("exact", "auto: the scene has no first-order form (massless nodes not held "
                     "by dashpots); the exact route handles it")
 
 
 def _check_applicable(route: str, facts: SceneFacts) -> None:
+    if route == "krylov" and not facts.krylov:
+        raise SceneError("the krylov route cannot take this scene: it needs rational entries, no "
+                         "forcing, a diagonal positive M, and K ⪰ 0 and C + Cᵀ ⪰ 0 proved by "
+                         "diagonal dominance (every spring-and-dashpot network has them)")
+    if route == "modal" and facts.first_order and not facts.forced and not facts.symbolic \
+            and not facts.modal_ok:
+        if facts.rayleigh:
+            raise SceneError(
+                f"the Chebyshev route holds n x (N+1) vectors of a Rayleigh-damped scene; this "
+                f"scene has n = {facts.n:,} coordinates, more than CHEBYSHEV_MAX_COORDINATES = "
+                f"{CHEBYSHEV_MAX_COORDINATES:,}. Solve a coarser model")
+        if facts.classical:
+            raise SceneError(
+                f"the modal route holds the n x n mode shapes of a classically damped scene "
+                f"whose damping is not Rayleigh's (C = aK + bM with a diagonal M: those go up to "
+                f"CHEBYSHEV_MAX_COORDINATES = {CHEBYSHEV_MAX_COORDINATES:,}); this scene has "
+                f"n = {facts.n:,} coordinates, more than CLASSICAL_MAX_COORDINATES = "
+                f"{CLASSICAL_MAX_COORDINATES:,}. Solve a coarser model")
+        raise SceneError(
+            f"the general modal route (damping that is not classical) holds the scene as dense "
+            f"float64 matrices and decomposes its 2n x 2n first-order matrix; this scene has "
+            f"n = {facts.n:,} coordinates, more than NUMERIC_MAX_COORDINATES = "
+            f"{GENERAL_MODAL_MAX_COORDINATES:,} (800 take about 30 s on one core, and the time "
+            f"grows like n³). Undamped and classically damped scenes (C M⁻¹K = K M⁻¹C) go up to "
+            f"CLASSICAL_MAX_COORDINATES = {CLASSICAL_MAX_COORDINATES:,}, Rayleigh-damped ones "
+            f"(C = aK + bM, diagonal M) up to CHEBYSHEV_MAX_COORDINATES = "
+            f"{CHEBYSHEV_MAX_COORDINATES:,}")
     if route == "modal" and not facts.modal_ok:
         why = ("has symbols" if facts.symbolic else "is forced" if facts.forced
                else "has no first-order form (massless nodes not held by dashpots, or a "

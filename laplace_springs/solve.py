@@ -11,17 +11,17 @@ import numpy as np
 
 from .exact.assembly import exact_motion
 from .model.errors import SceneError
+from .model.sampled import formula_part
 from .model.scene import Scene
 from .numeric.certified import certified_poles
-from .numeric.first_order import (
-    NUMERIC_MAX_COORDINATES,
-    has_first_order_form,
-    is_rational,
-    symbolic_entries,
-)
+from .numeric.chebyshev import chebyshev_motion, rayleigh_coefficients
+from .numeric.classical import classical_damping, classical_motion
+from .numeric.first_order import has_first_order_form, rational_entries, symbolic_entries
+from .numeric.krylov import krylov_refusal
 from .numeric.modal import decompose_modal
 from .numeric.times import as_times
 from .policy import (
+    GENERAL_MODAL_MAX_COORDINATES,
     PROBE_TIMES,
     Decision,
     SceneFacts,
@@ -32,7 +32,9 @@ from .policy import (
 )
 from .routes.certified import CertifiedSolution
 from .routes.exact import ExactSolution
+from .routes.krylov import krylov_solution
 from .routes.modal import ModalSolution
+from .routes.sampled import solve_sampled
 from .solution import Solution
 
 __all__ = ["solve", "scene_facts"]
@@ -44,12 +46,21 @@ def scene_facts(scene: Scene) -> SceneFacts:
     Examples
     --------
     >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0], parameters=["k"]))
-    SceneFacts(n=1, symbolic=True, forced=False, rational=False, first_order=False)
+    SceneFacts(n=1, symbolic=True, forced=False, rational=False, first_order=False, classical=False, rayleigh=False, krylov=False)
     """
-    symbolic = bool(scene.free_symbols)
-    return SceneFacts(n=scene.n, symbolic=symbolic, forced=scene.is_forced,
-                      rational=not symbolic and is_rational(scene),
-                      first_order=not symbolic and has_first_order_form(scene))
+    rational = all(rational_entries(scene, name) is not None for name in ("M", "C", "K", "x0", "v0"))
+    # rational matrices have no symbols (read from their domain: no SymPy walk of every entry)
+    symbolic = not (rational and scene.forcing is None and scene.sampled is None) \
+        and bool(scene.free_symbols)
+    forced = scene.is_forced
+    first_order = not symbolic and has_first_order_form(scene)
+    unforced = first_order and not forced
+    rayleigh = unforced and rayleigh_coefficients(scene) is not None  # O(nnz), implies classical
+    classical = rayleigh or (unforced and classical_damping(scene))
+    return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
+                      rational=not symbolic and rational, first_order=first_order,
+                      classical=classical, rayleigh=rayleigh,
+                      krylov=unforced and rational and krylov_refusal(scene) is None)
 
 
 def solve(scene: Scene, *, method: str = "auto", target: float | None = None) -> Solution:
@@ -59,10 +70,17 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     ----------
     scene : Scene
         The mechanical system.
-    method : {"auto", "exact", "modal", "certified"}
+    method : {"auto", "exact", "modal", "certified", "krylov"}
         "exact": exact partial fractions (symbols, forcing, closed forms). "modal": the
-        conditioned float64 eigen-decomposition (large numeric scenes). "certified":
-        exact polynomials with certified roots, evaluated in ball arithmetic. "auto"
+        float64 modes (large numeric scenes): from the symmetric eigenproblem of size n for
+        undamped and classically damped scenes (C M⁻¹K = K M⁻¹C, checked exactly) — or,
+        for Rayleigh damping C = aK + bM with a diagonal M from
+        :data:`~laplace_springs.policy.CHEBYSHEV_MIN_COORDINATES` coordinates, a Chebyshev
+        expansion in M⁻¹K (sparse products, no eigenvectors) — else the conditioned
+        eigen-decomposition of the 2n x 2n first-order matrix. "certified":
+        exact polynomials with certified roots, evaluated in ball arithmetic. "krylov":
+        Taylor steps of the sparse first-order system in double-double arithmetic, bounded
+        through the energy (large scenes whose damping is not classical). "auto"
         takes the fastest route that meets the contract (see
         :func:`laplace_springs.policy.route_for`). "numeric" is the former name of
         "modal".
@@ -94,8 +112,11 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     array([[1.        , 0.73575888]])
     """
     target = check_target(target)
+    if scene.sampled is not None:  # measured histories: the rest by `method`, then their response
+        base = solve(formula_part(scene), method=method, target=target)
+        return solve_sampled(scene, target, base=base)
     facts = scene_facts(scene)
-    if facts.symbolic and method in ("modal", "numeric", "certified"):
+    if facts.symbolic and method in ("modal", "numeric", "certified", "krylov"):
         raise SceneError(f"the {method} route needs numbers, but these entries are symbolic: "
                          + ", ".join(symbolic_entries(scene)) + "; use method='exact'")
     decision = route_for(method, facts)
@@ -103,10 +124,20 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         return ExactSolution(exact_motion(scene), reason=decision.reason, target=target)
     if decision.route == "certified":
         return _certified(scene, decision, target)
+    if decision.route == "krylov":
+        return krylov_solution(scene, reason=decision.reason, target=target)
+    if facts.modal_kind == "chebyshev":
+        return ModalSolution(scene, chebyshev_motion(scene), reason=decision.reason, target=target)
+    if facts.classical:
+        classical = classical_motion(scene)  # decomposed on first use beyond the general route's size
+        if scene.n > GENERAL_MODAL_MAX_COORDINATES or not classical.has_zero_frequency:
+            return ModalSolution(scene, classical, reason=decision.reason, target=target)
+        decision = Decision("modal", decision.reason.split(":")[0] + ": a zero frequency (rigid-"
+                            "body motion): the general modal route splits it off exactly")
     try:
         motion = _modal_motion(scene)
     except SceneError:
-        if method != "auto" or scene.n > NUMERIC_MAX_COORDINATES:
+        if method != "auto" or scene.n > GENERAL_MODAL_MAX_COORDINATES:
             raise  # a size refusal: the exact route would refuse too, for a worse reason
         fallback = Decision("certified" if facts.certified_ok else "exact",
                             "auto: the modal route cannot hold this scene in float64")
@@ -114,7 +145,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
                 else ExactSolution(exact_motion(scene), reason=fallback.reason, target=target))
     warnings = "".join(f"; warning: {w}" for w in motion.modes.warnings)
     solution = ModalSolution(scene, motion, reason=decision.reason + warnings, target=target)
-    if method == "auto":
+    if method == "auto" and facts.certified_ok:  # only the certified route can do better
         better = after_modal_probe(facts, _probe(solution), target)
         if better is not None:
             return _certified(scene, better, target)

@@ -182,8 +182,14 @@ def test_a_scene_beyond_the_numeric_size_limit_is_refused_at_once_for_that_reaso
     masses = {f"m{i}": 1 for i in range(1, n + 1)}
     nodes = ["wall", *masses, "wall"]
     springs = {f"k{i}": (nodes[i], nodes[i + 1], 1) for i in range(n + 1)}
-    scene = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1})
+    # one irrational dashpot on one mass: damping that is not classical and an entry the
+    # krylov route (rational entries only) does not take, so only the general route applies
+    scene = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1},
+                                  dashpots={"c": ("ground", "m1", "sqrt(2)/10")})
     started = time.perf_counter()
     with pytest.raises(SceneError, match=f"more than NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,}"):
         solve(scene)  # "auto": not the exact route's misleading refusal
     assert time.perf_counter() - started < 10  # a guard against a hang
+    rational = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1},
+                                     dashpots={"c": ("ground", "m1", "1/10")})
+    assert solve(rational).method == "krylov"  # the sparse route takes it, at once

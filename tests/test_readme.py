@@ -40,3 +40,8 @@ def test_the_readme_snippets_run_top_to_bottom(tmp_path, monkeypatch):
     assert [symbol.name for symbol in scene.parameters] == ["c", "k"]
     critical = ls.solve(scene.subs({"c": 2, "k": 1})).x[0]
     assert sympy.simplify(critical - (1 + t) * sympy.exp(-t)) == 0
+    # base excitation: the textbook single-mass transmissibility at r = 1.5/2, ζ = 0.1
+    r, zeta = 0.75, 0.1
+    textbook = ((1 + (2 * zeta * r) ** 2) / ((1 - r * r) ** 2 + (2 * zeta * r) ** 2)) ** 0.5
+    assert abs(float(ls.transmissibility(namespace["shaken"], [1.5]).ravel()[0]) - textbook) < 1e-13
+    assert namespace["x"].shape == (400, 2, 50)

@@ -22,8 +22,15 @@ from ..model.errors import SceneError
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
+from ..numeric.classical import float_eigenpairs
+from ..numeric.first_order import is_rational
 
-__all__ = ["Mode", "modes"]
+__all__ = ["Mode", "modes", "float_modes", "MODES_EXACT_MAX_COORDINATES"]
+
+#: ``modes`` is exact up to this many coordinates for rational scenes; larger or irrational
+#: numeric scenes get float64 modes (Float values; the symmetric eigenproblem of size n
+#: where the damping is classical): a 200-mass chain takes a fraction of a second.
+MODES_EXACT_MAX_COORDINATES = 40
 
 ModeKind = Literal["oscillatory", "real", "rigid"]
 
@@ -66,9 +73,35 @@ class Mode:
         return self.shapes[0]
 
     def __repr__(self) -> str:
-        wn = float(self.natural_frequency)
-        zeta = "" if self.damping_ratio is None else f", zeta={float(self.damping_ratio):.6g}"
-        return f"<Mode {self.kind}: omega_n={wn:.6g}{zeta}, multiplicity {self.multiplicity}>"
+        """``Mode(ω_n=2, ζ=1/10, oscillatory)``: short exact values as they are, others ≈ 6 digits.
+
+        >>> Mode(sp.I * 2, "oscillatory", sp.Integer(2), sp.Integer(2), sp.S.Zero, 1, ())
+        Mode(ω_n=2, ζ=0, oscillatory)
+        >>> Mode(-1.0, "real", 1.0, 0.0, None, 2, ())
+        Mode(λ=-1, real, multiplicity 2)
+        """
+        if self.kind == "oscillatory":
+            parts = [f"ω_n{Mode._compact(self.natural_frequency)}"]
+            if self.damping_ratio is not None:
+                parts.append(f"ζ{Mode._compact(self.damping_ratio)}")
+        else:
+            parts = [f"λ{Mode._compact(self.eigenvalue)}"]
+        parts.append(self.kind)
+        if self.multiplicity > 1:
+            parts.append(f"multiplicity {self.multiplicity}")
+        return f"Mode({', '.join(parts)})"
+
+    @staticmethod
+    def _compact(value: sp.Expr | complex | float) -> str:
+        """``=2``, ``=sqrt(3)`` for short exact values, ``≈15.9954`` for long or float ones."""
+        if isinstance(value, sp.Basic) and not value.has(sp.Float):
+            text = sp.sstr(value)
+            if len(text) <= 14 and not value.has(sp.CRootOf, AlgebraicRoot):
+                return f"={text}"
+        number = complex(numeric_value(value, 15)) if isinstance(value, sp.Basic) else complex(value)
+        shown = f"{number.real:.6g}" if number.imag == 0 else f"{number:.6g}"
+        exact = not isinstance(value, sp.Basic) and complex(shown.strip("()")) == number
+        return f"={shown}" if exact else f"≈{shown}"
 
 
 def modes(scene: Scene) -> tuple[Mode, ...]:
@@ -105,6 +138,8 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
     >>> mode.natural_frequency, mode.damping_ratio, mode.damped_frequency
     (2, 1/10, 3*sqrt(11)/5)
     """
+    if not scene.free_symbols and (scene.n > MODES_EXACT_MAX_COORDINATES or not is_rational(scene)):
+        return float_modes(scene)
     R = resolvent(scene)
     if not scene.is_damped:
         out = _undamped_modes(scene, R.determinant)
@@ -116,6 +151,45 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
 
 
 _MU = sp.Symbol("mu")
+
+
+def float_modes(scene: Scene) -> tuple[Mode, ...]:
+    """The modes of a numeric scene from float64 eigenpairs, ordered by natural frequency.
+
+    What :func:`modes` returns beyond :data:`MODES_EXACT_MAX_COORDINATES` coordinates or for
+    irrational entries: the symmetric eigenproblem of size n where the damping is classical
+    (real shapes), else the 2n x 2n first-order matrix. Values are SymPy Floats (15 digits).
+    A zero eigenvalue of the symmetric problem (|λ|² ≤ 1e-13 of the largest) is one rigid
+    mode of multiplicity 2 (a drift and a position), shapes scaled so the largest entry is 1.
+
+    Examples
+    --------
+    A chain of three unit masses and springs: ω_k = 2 sin(kπ/8).
+
+    >>> scene = Scene.from_matrices(M=[[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+    ...                             K=[[2, -1, 0], [-1, 2, -1], [0, -1, 2]], x0=[1, 0, 0], v0=[0, 0, 0])
+    >>> [round(float(m.natural_frequency), 12) for m in float_modes(scene)]
+    [0.76536686473, 1.414213562373, 1.847759065023]
+    """
+    pairs = float_eigenpairs(scene)
+    top = max((abs(value) for value, _ in pairs), default=0.0)
+    out: list[Mode] = []
+    seen_rigid: list[np.ndarray] = []
+    for value, shape in pairs:
+        if abs(value) ** 2 <= 1e-13 * top**2:
+            if any(np.array_equal(shape, other) for other in seen_rigid):
+                continue  # the symmetric route lists a rigid mode once per root of λ² = 0
+            seen_rigid.append(shape)
+            real = shape.real.astype(complex) if np.all(shape.imag == 0) else shape
+            out.append(Mode(sp.S.Zero, "rigid", sp.S.Zero, sp.S.Zero, None, 2, (real,)))
+            continue
+        wn = abs(value)
+        kind: ModeKind = "real" if value.imag == 0 else "oscillatory"
+        zeta = sp.Float(-value.real / wn, 15) if kind == "oscillatory" else None
+        eigenvalue = sp.Float(value.real, 15) + sp.I * sp.Float(value.imag, 15)
+        out.append(Mode(eigenvalue, kind, sp.Float(wn, 15), sp.Float(value.imag, 15), zeta, 1,
+                        (shape,)))
+    return tuple(sorted(out, key=lambda m: (float(m.natural_frequency), float(m.damped_frequency))))
 
 
 def _undamped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:

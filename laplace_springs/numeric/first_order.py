@@ -15,6 +15,7 @@ Every numeric route starts here, from the scene's exact data:
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -26,7 +27,7 @@ from flint import fmpq, fmpq_mat, fmpz_mat
 from ..model.errors import SceneError
 from ..model.scene import Scene
 
-__all__ = ["NUMERIC_MAX_COORDINATES", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
+__all__ = ["NUMERIC_MAX_COORDINATES", "scene_entries", "rational_entries", "scene_cache", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
            "massless_nodes", "first_order_system", "RigidSplit", "rigid_split", "is_rational",
            "has_first_order_form"]
 
@@ -36,6 +37,73 @@ __all__ = ["NUMERIC_MAX_COORDINATES", "check_numeric_size", "symbolic_entries", 
 #: coordinates 1 s, 400 6 s, 800 31 s; time grows like n³ and memory like n² (a 10,000-mass
 #: chain would need 6 GB per complex 2n x 2n array).
 NUMERIC_MAX_COORDINATES = 1_000
+
+
+_ENTRIES: dict[int, dict[str, Any]] = {}
+
+
+def scene_entries(scene: Scene, name: str) -> dict[tuple[int, int], Any]:
+    """The nonzero entries of ``scene.M`` (``"M"``, ``"C"``, ``"K"``, ``"x0"``, ``"v0"``) as a
+    dict, read once per scene: ``todok`` of a large sparse matrix costs milliseconds, and the
+    route checks read every matrix several times. Do not modify the returned dict.
+
+    >>> scene_entries(Scene.from_matrices(M=[[2]], K=[[8]], x0=[1], v0=[0]), "K")
+    {(0, 0): 8}
+    """
+    table = scene_cache(scene)
+    if name not in table:
+        table[name] = getattr(scene, name).todok()
+    return table[name]
+
+
+def rational_entries(scene: Scene, name: str) -> dict[tuple[int, int], Any] | None:
+    """The nonzero entries of ``scene.M`` (``"M"``, ``"C"``, ``"K"``, ``"x0"``, ``"v0"``) as
+    flint ``fmpq``, or None when one is not a rational number. Read once per scene, from the
+    matrix's integer or rational domain representation when it has one (no SymPy objects:
+    a 10,000-mass chain takes milliseconds). Do not modify the returned dict.
+
+    >>> rational_entries(Scene.from_matrices(M=[[2]], K=[["8/3"]], x0=[1], v0=[0]), "K")
+    {(0, 0): 8/3}
+    """
+    table = scene_cache(scene)
+    key = "rational " + name
+    if key not in table:
+        table[key] = _read_rational(scene, name)
+    return table[key]
+
+
+def _read_rational(scene: Scene, name: str) -> dict[tuple[int, int], Any] | None:
+    matrix = getattr(scene, name)
+    rep = getattr(matrix, "_rep", None)
+    domain = str(getattr(rep, "domain", ""))
+    if rep is not None and domain in ("ZZ", "QQ"):
+        try:
+            rows = rep.to_sdm()
+            return {(i, j): fmpq(value) for i, row in rows.items()
+                    for j, value in row.items() if value}
+        except (AttributeError, TypeError, ValueError):  # pragma: no cover - another SymPy layout
+            pass
+    out = {}
+    for key, entry in scene_entries(scene, name).items():
+        if not entry.is_Rational:
+            return None
+        out[key] = fmpq(int(entry.p), int(entry.q))
+    return out
+
+
+def scene_cache(scene: Scene) -> dict[str, Any]:
+    """A dict kept as long as the scene lives, for facts read from it once (entries, checks).
+
+    >>> scene = Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0])
+    >>> scene_cache(scene) is scene_cache(scene)
+    True
+    """
+    key = id(scene)
+    table = _ENTRIES.get(key)
+    if table is None:
+        table = _ENTRIES[key] = {}
+        weakref.finalize(scene, _ENTRIES.pop, key, None)
+    return table
 
 
 def symbolic_entries(scene: Scene) -> list[str]:
@@ -49,7 +117,7 @@ def symbolic_entries(scene: Scene) -> list[str]:
     """
     found = []
     for name in ("M", "C", "K", "x0", "v0"):
-        for (i, j), entry in sorted(getattr(scene, name).todok().items()):  # nonzero entries
+        for (i, j), entry in sorted(scene_entries(scene, name).items()):  # nonzero entries
             if entry.free_symbols:
                 label = f"{name}[{i}]" if name in ("x0", "v0") else f"{name}[{i},{j}]"
                 found.append(f"{label} = {entry}")
@@ -69,8 +137,9 @@ def check_numeric_size(scene: Scene) -> None:
             f"first-order matrix; this scene has n = {scene.n:,} coordinates, more than "
             f"NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,} (800 take about 30 s on one "
             f"core, and the time grows like n³). Solve a scene of at most "
-            f"{NUMERIC_MAX_COORDINATES:,} coordinates (a coarser model); routes for large sparse "
-            "scenes are planned")
+            f"{NUMERIC_MAX_COORDINATES:,} coordinates (a coarser model). Undamped and "
+            "classically damped scenes take the symmetric modal route, and Rayleigh-damped ones "
+            "(C = aK + bM, diagonal M) the Chebyshev route, without dense 2n x 2n matrices")
 
 
 def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
@@ -125,14 +194,15 @@ def scene_arrays(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
 
 def massless_nodes(scene: Scene) -> list[int]:
     """Indices whose row and column of M are zero (massless nodes)."""
-    touched = {index for key in scene.M.todok() for index in key}
+    exact = rational_entries(scene, "M")
+    touched = {index for key in (scene_entries(scene, "M") if exact is None else exact)
+               for index in key}
     return [i for i in range(scene.n) if i not in touched]
 
 
 def is_rational(scene: Scene) -> bool:
     """Whether every entry of M, C, K, x0 and v0 is a rational number."""
-    return all(e.is_Rational for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0)
-               for e in m.todok().values())
+    return all(rational_entries(scene, name) is not None for name in ("M", "C", "K", "x0", "v0"))
 
 
 def first_order_system(scene: Scene) -> tuple[sp.Matrix, sp.Matrix, list[int]]:
@@ -319,9 +389,15 @@ def has_first_order_form(scene: Scene) -> bool:
     ...                                          x0=[0, 0], v0=[0, 0]))
     False
     """
-    if scene.free_symbols:
+    exact = [rational_entries(scene, name) for name in ("M", "C", "K")]
+    if any(entries is None for entries in exact) and any(
+            not e.is_Rational and e.free_symbols for name in ("M", "C", "K")
+            for e in scene_entries(scene, name).values()):
         return False
     z = massless_nodes(scene)
+    if not z and all(i == j for i, j in (exact[0] if exact[0] is not None
+                                         else scene_entries(scene, "M"))):
+        return True  # a diagonal M with every mass nonzero
     m = [i for i in range(scene.n) if i not in z]
     return _invertible(scene.M.extract(m, m)) and (not z or _invertible(scene.C.extract(z, z)))
 

@@ -52,6 +52,7 @@ import sympy as sp
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from .classical import ModalForm
 from .first_order import RigidSplit, rigid_split, scene_arrays
 
 __all__ = ["KAPPA_MAX", "SAFETY", "SAMPLE_SAFETY", "Block", "Modes", "ModalMotion", "decompose_modal"]
@@ -783,6 +784,28 @@ class ModalMotion:
         """The poles λ, complex; a rigid split adds the double pole 0 of its drift."""
         poles = self.modes.poles()
         return np.concatenate([poles, np.zeros(2)]) if self.split is not None else poles
+
+    def modal_form(self) -> ModalForm:
+        """x(t) as a :class:`~laplace_springs.numeric.classical.ModalForm`: the terms
+        t^p e^{αt}(a cos βt + b sin βt) with their coefficient vectors (the rigid drift,
+        if any, as the terms of α = β = 0)."""
+        table = _collect(self.modes)
+        keys = sorted(table)
+        n_inner = self.modes.n
+        cos = np.array([table[k][0] for k in keys]).T.reshape(n_inner, len(keys)) * self.scale
+        sin = np.array([table[k][1] for k in keys]).T.reshape(n_inner, len(keys)) * self.scale
+        powers = [k[0] for k in keys]
+        alphas = [k[1] for k in keys]
+        betas = [k[2] for k in keys]
+        affine = self._affine
+        if affine is not None:
+            lift, offset, slope = affine
+            cos, sin = lift @ cos, lift @ sin
+            cos = np.hstack([cos, offset[:, None], slope[:, None]])
+            sin = np.hstack([sin, np.zeros((len(offset), 2))])
+            powers, alphas, betas = [*powers, 0, 1], [*alphas, 0.0, 0.0], [*betas, 0.0, 0.0]
+        ones = np.ones(len(powers))
+        return ModalForm(powers, alphas, betas, cos, ones, ones, sin_shapes=sin)
 
     def closed_form(self, relative: float = 1e-13) -> sp.ImmutableMatrix:
         """x(t) in :data:`~laplace_springs.model.symbols.TIME` with Float coefficients.

@@ -8,13 +8,19 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from ..model.scene import Scene
 from ..numeric.certified import CertifiedPoles, certified_digits, certified_poles, certified_values
+from ..numeric.chebyshev import ChebyshevMotion
+from ..numeric.classical import ClassicalMotion
 from ..numeric.modal import ModalMotion
 from ..numeric.times import Times
-from ..policy import CERTIFIED_MAX_ORDER, EXACT_FALLBACK_MAX_COORDINATES
+from ..policy import (
+    CERTIFIED_MAX_ORDER,
+    CLOSED_FORM_MAX_COORDINATES,
+    EXACT_FALLBACK_MAX_COORDINATES,
+    reference_scale,
+)
 from ..solution import Solution
 from .exact import ExactSolution, exact_solution_of
 
@@ -22,9 +28,15 @@ __all__ = ["ModalSolution"]
 
 
 class ModalSolution(Solution):
-    """Motion x(t) of a numeric scene from a conditioned float64 eigen-decomposition.
+    """Motion x(t) of a numeric scene from float64 modes.
 
-    Holds a :class:`~laplace_springs.numeric.modal.ModalMotion`. Times whose float64 bound
+    Holds a :class:`~laplace_springs.numeric.modal.ModalMotion` (the conditioned
+    eigen-decomposition of the 2n x 2n first-order matrix) or, for undamped and
+    classically damped scenes, a :class:`~laplace_springs.numeric.classical.ClassicalMotion`
+    (real modes of the symmetric eigenproblem of size n, decomposed on first use), or for
+    Rayleigh damping a :class:`~laplace_springs.numeric.chebyshev.ChebyshevMotion` (Chebyshev
+    expansion in M⁻¹K; ``modes`` and ``x`` are built on request up to
+    :data:`~laplace_springs.numeric.chebyshev.SHAPES_MAX_COORDINATES`). Times whose float64 bound
     misses the target go to the certified route where the scene allows it (rational
     entries, 2n ≤ :data:`~laplace_springs.policy.CERTIFIED_MAX_ORDER`), else to the exact
     route's mpmath evaluation (up to
@@ -33,11 +45,15 @@ class ModalSolution(Solution):
 
     method = "modal"
 
-    def __init__(self, scene: Scene, motion: ModalMotion, *, reason: str,
+    def __init__(self, scene: Scene, motion: ModalMotion | ClassicalMotion | ChebyshevMotion, *, reason: str,
                  target: float | None = None, certified: CertifiedPoles | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.motion = motion
         self._given_certified = certified
+
+    def _require_numbers(self) -> None:
+        """Nothing to check: :func:`~laplace_springs.solve` never gives this route symbols
+        (and reading a large scene's symbols costs time on every evaluation)."""
 
     @property
     def modes(self) -> Any:
@@ -50,18 +66,45 @@ class ModalSolution(Solution):
 
     @property
     def _spectral_radius(self) -> float:
+        if isinstance(self.motion, ChebyshevMotion):  # no eigenvalues computed for evaluate()
+            return self.motion.spectral_radius
         return float(np.max(np.abs(self.poles), initial=0.0))
+
+    @cached_property
+    def _base_floor(self) -> float:
+        data = getattr(self.motion, "data", None)  # the symmetric routes' float x0, v0 (no
+        if data is None:                           # massless nodes): no SymPy walk of x0, v0
+            return super()._base_floor
+        return reference_scale(float(np.max(np.abs(data.x0), initial=0.0)),
+                               float(np.max(np.abs(data.v0), initial=0.0)), self._spectral_radius)
 
     @cached_property
     def _exact_form(self) -> ExactSolution | None:
         return exact_solution_of(self.scene, method=self.method, target=self.target)
 
     @cached_property
-    def x(self) -> sp.ImmutableMatrix:
-        """x(t): the exact closed form up to EXACT_FORM_MAX_COORDINATES coordinates (built on
-        first use), else terms t^p e^{αt}(a cos βt + b sin βt) with Float coefficients."""
+    def x(self) -> Any:
+        """x(t), built on first use: the exact closed form up to EXACT_FORM_MAX_COORDINATES
+        coordinates; up to CLOSED_FORM_MAX_COORDINATES a SymPy column of terms
+        t^p e^{αt}(a cos βt + b sin βt) with Float coefficients; beyond, the same terms as a
+        :class:`~laplace_springs.numeric.classical.ModalForm` (a sum over modes with
+        coefficient vectors: ``x[i]`` is row i, ``x.as_matrix()`` the whole column)."""
         exact = self._exact_form
-        return exact.x if exact is not None else self.motion.closed_form()
+        if exact is not None:
+            return exact.x
+        if self.scene.n <= CLOSED_FORM_MAX_COORDINATES:
+            return self.motion.closed_form()
+        return self.motion.modal_form()
+
+    def latex(self, **kw: Any) -> str:
+        """LaTeX of x(t); for a scene beyond CLOSED_FORM_MAX_COORDINATES a summary of its
+        modal form (``x.as_matrix()`` gives the full column)."""
+        if self._exact_form is None and self.scene.n > CLOSED_FORM_MAX_COORDINATES:
+            form = self.x
+            return (f"x(t) = \\sum_{{j=1}}^{{{len(form.powers)}}} t^{{p_j}} e^{{\\alpha_j t}}"
+                    f"\\left(a_j \\cos \\beta_j t + b_j \\sin \\beta_j t\\right)"
+                    f"\\quad ({self.scene.n} \\text{{ coordinates}})")
+        return super().latex(**kw)
 
     @cached_property
     def _certified(self) -> CertifiedPoles | None:

@@ -12,7 +12,8 @@ import sympy as sp
 from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
 from ..model.numbers import shown, to_exact
-from ..model.scene import SUPPORTS, Scene
+from ..model.scene import Scene
+from ..model.supports import is_support
 from ..model.symbols import lam
 from .compile import compile_scene, parameter_rows
 from .run import sweep
@@ -145,10 +146,10 @@ def _support_terms(scene: Scene) -> list[tuple[str, int, sp.Expr]]:
     terms = []
     for component in scene.components:
         ends = [component.a, component.b]
-        supports = [end for end in ends if end in SUPPORTS]
+        supports = [end for end in ends if is_support(end)]
         if len(supports) != 1:
             continue
-        mass = ends[1] if ends[0] in SUPPORTS else ends[0]
+        mass = ends[1] if is_support(ends[0]) else ends[0]
         terms.append((component.kind, scene.mass_names.index(mass), component.value))
     if not terms:
         raise SceneError("support_force: no spring or dashpot connects a mass to a support")

@@ -275,13 +275,35 @@ def test_exact_sparse_matrix_behaves_as_sympy_sparse():
 
 def test_numeric_routes_refuse_scenes_beyond_their_size_at_once():
     n = 2 * NUMERIC_MAX_COORDINATES
-    scene = scene_from_toml_text(chain_toml(n))
+    # a dashpot from m1 to the ground besides those on the links: damping that is not
+    # classical, for the general modal route only, which holds dense 2n x 2n matrices
+    text = chain_toml(n).replace("[dashpots]\n", '[dashpots]\nground = ["m1", "wall", "1/3"]\n')
+    scene = scene_from_toml_text(text)
     start = time.perf_counter()
     with pytest.raises(SceneError, match=rf"n = {n:,} coordinates, more than NUMERIC_MAX_COORDINATES"):
         ls.solve(scene, method="modal")
     with pytest.raises(SceneError, match="NUMERIC_MAX_COORDINATES"):
         scene_arrays(scene)
     assert time.perf_counter() - start < 10
+    # without it: dashpots 1/10 beside springs 2 on every link, C = K/20 (Rayleigh damping),
+    # solved on the Chebyshev route without dense matrices
+    scene = scene_from_toml_text(chain_toml(n))
+    start = time.perf_counter()
+    sol = ls.solve(scene, method="modal")
+    values, bounds = sol.evaluate([0, "1/2"], return_error=True)
+    velocity = sol.evaluate([0], derivative=1)
+    assert time.perf_counter() - start < 10
+    assert values[0, 0] == 1 and np.all(values[1:, 0] == 0) and velocity[-1, 0] == 0.5
+    assert np.max(bounds) < 1e-12
+    # t = 1/2 on the first masses: the first 30 masses alone (a wall after m30 and no push
+    # from mn change x1(1/2) by about (1/2)^60/60!) by scipy's dense matrix exponential
+    import scipy.linalg
+
+    m = 30
+    K = 2 * (2 * np.eye(m) - np.eye(m, k=1) - np.eye(m, k=-1))
+    Z = np.block([[np.zeros((m, m)), np.eye(m)], [-K, -K / 20]])
+    reference = (scipy.linalg.expm(Z / 2) @ np.eye(2 * m)[:, 0])[:5]
+    assert np.max(np.abs(values[:5, 1] - reference)) < 1e-13
 
 
 # --- limits --------------------------------------------------------------------------

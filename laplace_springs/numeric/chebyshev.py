@@ -1,0 +1,563 @@
+"""Rayleigh-damped scenes by Chebyshev expansion in the stiffness operator (large sparse scenes).
+
+When M is diagonal and positive and C = a K + b M exactly (Rayleigh damping, a, b ≥ 0
+rational; :func:`rayleigh_coefficients`), every mode with stiffness λ (an eigenvalue of
+M⁻¹K) has damping c(λ) = a λ + b, and the motion is
+
+    x(t) = F_t(M⁻¹K) x0 + G_t(M⁻¹K) v0,
+
+where F_t(λ), G_t(λ) are the solutions of q'' + c(λ) q' + λ q = 0 with (q, q')(0) = (1, 0)
+and (0, 1): entire functions of λ. With the spectrum of M⁻¹K in [lo, hi] (Gershgorin,
+exact up to a rounding pad) and B = (M⁻¹K − mid)/rad, whose spectrum is in [−1, 1], each
+is replaced by its Chebyshev interpolant p_N of degree N on that interval, and
+
+    p_N(B) x0 = Σ_k c_k T_k(B) x0,   T_{k+1}(B)x0 = 2B T_k(B)x0 − T_{k−1}(B)x0,
+
+so the vectors T_k(B) x0 (N sparse products) serve every time at once and the times cost
+one matrix product of the n x (N+1) vectors with the (N+1) x T coefficients (a DCT of F_t
+at the Chebyshev points). No eigenvectors: time ∝ nnz(K)·N + n·N·T, memory ∝ n·N. N is
+chosen from the largest time (N ≈ t_max √hi / 2 + a few dozen). Derivatives use
+F' = −λG, G' = F − cG and q'' = −c q' − λ q.
+
+The error bound (per time, per coordinate; all terms computed)
+---------------------------------------------------------------
+B is self-adjoint in the M-inner product, so ‖T_k(B)‖_M ≤ 1, ‖U_k(B)‖_M ≤ k + 1. The
+error of the value, in ‖·‖_M = ‖M^{1/2}·‖₂ and per coordinate |e_i| ≤ ‖e‖_M/√m_i, is at
+most the sum, for (f, w) = (F_t, x0) and (G_t, v0), of
+
+* truncation: ‖f − p_N‖ on [−1, 1] ≤ 4 M_r r^{−N}/(r − 1) (interpolation in Chebyshev
+  points, f analytic in the Bernstein ellipse E_r, |f| ≤ M_r there; Trefethen, ATAP
+  Thm 8.2), minimised over r. M_r comes from an energy estimate valid for complex λ and
+  c: with u = (√|λ| q, q'), ‖u(t)‖ ≤ e^{μt}‖u(0)‖, μ = (−Re c + √((Re c)² + 4β²))/2 and
+  β = |Im √λ| (the logarithmic norm of u' = [[0, √|λ|], [−λ/√|λ|, −c]] u); so |F| ≤ e^{μt},
+  |G| ≤ t e^{μt}, |F'| ≤ √|λ| e^{μt}, |G'| ≤ e^{μt}, and higher derivatives by
+  q'' = −c q' − λ q. μ is bounded on E_r by covering it with boxes (β is largest at a
+  box's corner of least real part and largest imaginary part);
+* the values of f at the nodes: evaluation rounding (phases and rates times t), the
+  rounding of the nodes and of a, b (through bounds on ∂f/∂λ, ∂f/∂c from the same
+  estimate), mapped to the interpolant by the Lebesgue constant Λ_N ≤ (2/π) log(N+1) + 1;
+* the DCT's rounding (the FFT model of Higham, *Accuracy and Stability*, Thm 24.2, with
+  a factor 2.5 to spare): Σ_k |Δc_k| ≤ √(N+1)·16 (log₂ 2N + 2) u ‖ĉ‖₂;
+* the recurrence: step j commits δ_j with ‖δ_j‖_M ≤ γ((α + |s|)‖v̂_j‖_M + ‖v̂_{j−1}‖_M)
+  (α ≥ ‖|M^{1/2}PM^{−1/2}|‖₂ the operator's absolute row sums), which reaches v̂_k as
+  U_{k−1−j}(B)δ_j: ‖v̂_k − T_k(B)x0‖_M ≤ E_k = Σ_{j<k} (k − j)‖δ_j‖_M, weighted by |ĉ_k|;
+* the final product (γ_{N+1} Σ|ĉ_k| ‖v̂_k‖_M) and the rounding of x0, v0 to float64.
+
+The recurrence term grows like N³ u: at t_max √hi ≈ 100 it is about 1e-11 of ‖x0‖_M
+(the actual rounding is far smaller: errors of 1e-15 to 1e-14 are typical), so this
+route's bound is honest but pessimistic at long times, like the eigen route's.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from flint import fmpq
+
+from ..model.errors import SceneError
+from ..model.scene import Scene
+from .classical import (
+    BANDED_MAX_BANDWIDTH,
+    ClassicalMotion,
+    ModalForm,
+    SymmetricScene,
+    _scalar_parts,
+    _scipy,
+    mode_poles,
+    symmetric_scene,
+)
+from .first_order import rational_entries, scene_cache
+
+__all__ = ["rayleigh_coefficients", "ChebyshevMotion", "chebyshev_motion", "SHAPES_MAX_COORDINATES",
+           "MAX_VECTOR_FLOATS"]
+
+#: Largest scene whose mode shapes (``modes``, ``x``) a Chebyshev motion builds on request
+#: (the n x n shapes of the eigen route: 128 MB at 4,000).
+SHAPES_MAX_COORDINATES = 4_000
+#: Largest scene whose eigenvalues (``poles``) are computed densely when K is not banded.
+DENSE_EIGENVALUES_MAX_COORDINATES = 4_000
+_EPS = float(np.finfo(float).eps)
+_U = _EPS / 2
+#: Bernstein-ellipse parameters r = 1 + ε tried for the truncation bound.
+_RADII = 1 + np.geomspace(1e-4, 8.0, 40)
+#: Boxes covering the upper half of each ellipse.
+_BOXES = 96
+#: Largest number of (node, time) pairs held at once; more times are done in chunks.
+_CHUNK = 2_000_000
+#: Largest number of floats of Chebyshev vectors kept between calls.
+_KEEP = 25_000_000
+#: Largest number of floats of Chebyshev vectors held at once (1 GB): n·(N+1) per initial
+#: vector, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen.
+MAX_VECTOR_FLOATS = 125_000_000
+
+
+# ----------------------------------------------------------------------------- exact check
+
+
+def rayleigh_coefficients(scene: Scene) -> tuple[Any, Any] | None:
+    """(a, b) with C = a K + b M exactly, M diagonal and positive, K symmetric, a, b ≥ 0
+    (flint fmpq), or None. Time proportional to the nonzero entries.
+
+    Examples
+    --------
+    >>> K = [[2, -1], [-1, 2]]
+    >>> rayleigh_coefficients(Scene.from_matrices(M=[[1, 0], [0, 1]], C=[["2/5", "-1/10"],
+    ...     ["-1/10", "2/5"]], K=K, x0=[1, 0], v0=[0, 0]))
+    (1/10, 1/5)
+    >>> rayleigh_coefficients(Scene.from_matrices(M=[[1, 0], [0, 1]], C=[[1, 0], [0, 0]],
+    ...                                           K=K, x0=[1, 0], v0=[0, 0])) is None
+    True
+    """
+    cache = scene_cache(scene)
+    if "rayleigh" not in cache:
+        cache["rayleigh"] = _rayleigh(scene)
+    return cache["rayleigh"]
+
+
+def _rayleigh(scene: Scene) -> tuple[Any, Any] | None:
+    M, C, K = (rational_entries(scene, name) for name in ("M", "C", "K"))
+    if M is None or C is None or K is None or len(M) != scene.n:
+        return None
+    if any(i != j or value <= 0 for (i, j), value in M.items()):
+        return None
+    if any(K.get((j, i)) != value for (i, j), value in K.items()):
+        return None
+    off = next((key for key in K if key[0] != key[1]), None)
+    zero = fmpq(0)
+    a = C.get(off, zero) / K[off] if off is not None else zero
+    b = (C.get((0, 0), zero) - a * K.get((0, 0), zero)) / M[0, 0]
+    if a < 0 or b < 0:
+        return None
+    for key in C.keys() | K.keys():
+        expected = a * K.get(key, zero)
+        if key[0] == key[1]:
+            expected += b * M[key]
+        if C.get(key, zero) != expected:
+            return None
+    if any(C.get(key, zero) != b * value for key, value in M.items() if key not in K):
+        return None
+    return a, b
+
+
+# ----------------------------------------------------------------------------- bounds
+
+
+def _mu(beta: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+    """(−γ + √(γ² + 4β²))/2 ≥ 0 without cancellation."""
+    root = np.sqrt(gamma * gamma + 4 * beta * beta)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        stable = np.where(gamma > 0, 2 * beta * beta / np.where(gamma > 0, gamma + root, 1.0),
+                          (root - gamma) / 2)
+    return stable
+
+
+def _imag_sqrt(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """|Im √(x + iy)| without cancellation."""
+    modulus = np.hypot(x, y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(x > 0, np.abs(y) / np.sqrt(2 * (modulus + np.where(x > 0, x, 0.0))),
+                        np.sqrt((modulus - x) / 2))
+
+
+def _derivative_bounds(b0: np.ndarray, b1: np.ndarray, lam: np.ndarray, c: np.ndarray,
+                       order: int) -> np.ndarray:
+    """Bounds on |q^(order)| from |q| ≤ b0, |q'| ≤ b1 and q'' = −c q' − λ q."""
+    bounds = [b0, b1]
+    for _ in range(order - 1):
+        bounds.append(c * bounds[-1] + lam * bounds[-2])
+    return bounds[order]
+
+
+def _log_bound(kind: str, order: int, mu: np.ndarray, lam: np.ndarray, c: np.ndarray,
+               t: np.ndarray) -> np.ndarray:
+    """log of a bound on |F_t^(order)| ("F") or |G_t^(order)| ("G"), broadcast over
+    (..., times), given μ, |λ|max, |c|max on a region."""
+    grow = mu * t
+    root = np.sqrt(lam)
+    if kind == "F":
+        b0, b1 = np.ones_like(root * t), root + 0 * t
+    else:
+        b0, b1 = t + 0 * root, np.ones_like(root * t)
+    with np.errstate(divide="ignore", over="ignore"):
+        return grow + np.log(_derivative_bounds(b0, b1, lam, c, order))
+
+
+class _Ellipses:
+    """Boxes covering the upper halves of the Bernstein ellipses E_r mapped to λ."""
+
+    def __init__(self, mid: float, rad: float, a: float, b: float) -> None:
+        phi = np.linspace(0.0, math.pi, _BOXES + 1)
+        A = (_RADII + 1 / _RADII) / 2
+        Bm = (_RADII - 1 / _RADII) / 2
+        cos, sin = np.cos(phi), np.sin(phi)
+        top = np.maximum(sin[:-1], sin[1:])
+        top[(phi[:-1] <= math.pi / 2) & (phi[1:] >= math.pi / 2)] = 1.0
+        pad = 1e-12
+        x_lo = mid + rad * (A[:, None] * cos[None, 1:]) - pad * (abs(mid) + rad * A[:, None])
+        x_hi = mid + rad * (A[:, None] * cos[None, :-1]) + pad * (abs(mid) + rad * A[:, None])
+        y = rad * Bm[:, None] * top[None, :] * (1 + pad) + pad * rad
+        beta = _imag_sqrt(x_lo, y)
+        gamma = a * x_lo + b  # a ≥ 0: least Re c at least Re λ
+        # per ellipse: the largest μ over its boxes, and the largest |λ| and |c| on it (the
+        # bound e^{μt}·P(|λ|, |c|, t) with P increasing in both holds with the maxima)
+        self.mu = np.max(_mu(beta, gamma), axis=1)[:, None]          # (radii, 1)
+        self.lam = np.max(np.hypot(np.maximum(np.abs(x_lo), np.abs(x_hi)), y), axis=1)[:, None]
+        self.c = a * self.lam + b
+        self.log_r = np.log(_RADII)[:, None]
+        self.log_gap = np.log(_RADII - 1)[:, None]
+
+    def log_max(self, kind: str, order: int, t: np.ndarray) -> np.ndarray:
+        """log M_r(t): (radii, times)."""
+        return _log_bound(kind, order, self.mu, self.lam, self.c, t[None, :])
+
+    def degrees(self, kind: str, order: int, t: np.ndarray, log_tol: float) -> np.ndarray:
+        """For each time, the least N with min_r 4 M_r r^{−N}/(r − 1) ≤ e^{log_tol}."""
+        log_m = self.log_max(kind, order, t)
+        need = np.min((math.log(4) + log_m - self.log_gap - log_tol) / self.log_r, axis=0)
+        return np.where(np.isnan(need), 1e9, np.ceil(np.clip(need, 0, 1e9)))  # f = 0: −inf
+
+    def truncation(self, kind: str, order: int, t: np.ndarray, N: int) -> np.ndarray:
+        """min_r 4 M_r(t) r^{−N}/(r − 1) for each time."""
+        log = math.log(4) + self.log_max(kind, order, t) - N * self.log_r - self.log_gap
+        with np.errstate(over="ignore"):
+            return np.exp(np.min(log, axis=0))
+
+
+# ----------------------------------------------------------------------------- the motion
+
+
+class ChebyshevMotion:
+    """x(t) of a Rayleigh-damped scene with a diagonal M by Chebyshev expansion in M⁻¹K
+    (see the module notes). Built by :func:`chebyshev_motion`.
+
+    ``values`` and ``bound`` follow :class:`~laplace_springs.numeric.classical.ClassicalMotion`;
+    ``poles`` computes the eigenvalues only (banded K); ``modes`` and ``modal_form`` build the
+    eigen route's shapes on request (up to :data:`SHAPES_MAX_COORDINATES` coordinates).
+    """
+
+    def __init__(self, data: SymmetricScene, a: Any, b: Any) -> None:
+        if not data.diagonal or not np.all(data.mass > 0):
+            raise SceneError("the Chebyshev route needs a diagonal, positive mass matrix")
+        self.data = data
+        self.a, self.b = float(a), float(b)
+        self._last: tuple[Any, tuple[np.ndarray, np.ndarray]] | None = None
+        self._vectors: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def n(self) -> int:
+        return self.data.n
+
+    # -- the operator ------------------------------------------------------------------
+    @cached_property
+    def _operator(self) -> dict[str, Any]:
+        d = self.data
+        K = d.K.tocsr()
+        m = d.mass
+        diag = K.diagonal()
+        absK = abs(K)
+        row = np.asarray(absK.sum(axis=1)).ravel() - np.abs(diag)
+        root = np.sqrt(m)
+        sym = np.asarray(absK @ (1 / root)).ravel() / root - np.abs(diag) / m
+        center = diag / m
+        radius = np.minimum(row / m, sym)
+        lo, hi = float(np.min(center - radius)), float(np.max(center + radius))
+        width = int(np.max(np.diff(K.indptr), initial=0))
+        scale = float(np.max(np.abs(center) + np.maximum(row / m, sym), initial=0.0))
+        pad = 4 * (width + 4) * _EPS * scale + 1e-300
+        lo, hi = lo - pad, hi + pad
+        rad = max((hi - lo) / 2 * (1 + 4 * _EPS), 1e-12 * max(abs(lo), abs(hi), 1e-300))
+        mid = lo + rad
+        while mid - rad > lo or mid + rad < hi:  # rounding: widen a few ulps at a time
+            rad += 4 * _EPS * max(abs(mid), rad)
+        P = (K.multiply((2 / rad) / m[:, None])).tocsr()
+        s = 2 * mid / rad
+        alpha = (2 / rad) * float(np.max(np.asarray(absK @ (1 / root)).ravel() / root,
+                                         initial=0.0)) * (1 + 16 * _EPS * (width + 2))
+        gamma = 1.01 * (width + 10) * _U
+        return {"P": P, "s": s, "mid": mid, "rad": rad, "lo": mid - rad, "alpha": alpha,
+                "gamma": gamma, "root": root}
+
+    @cached_property
+    def _ellipses(self) -> _Ellipses:
+        op = self._operator
+        return _Ellipses(op["mid"], op["rad"], self.a, self.b)
+
+    @cached_property
+    def _norms(self) -> tuple[float, float]:
+        root = self._operator["root"]
+        grow = 1 + (self.n + 4) * _EPS
+        return (float(np.linalg.norm(root * self.data.x0)) * grow,
+                float(np.linalg.norm(root * self.data.v0)) * grow)
+
+    # -- spectrum-derived quantities ------------------------------------------------------
+    def _pole_size(self, theta: np.ndarray) -> np.ndarray:
+        c = self.a * theta + self.b
+        h = c / 2
+        delta = h * h - theta
+        g = np.sqrt(np.abs(delta))
+        return np.where(delta > 0, h + g, np.sqrt(np.maximum(theta, 0.0)))
+
+    @cached_property
+    def spectral_radius(self) -> float:
+        """The largest |pole| (the contract's ρ), for stiffnesses from the Gershgorin lower
+        bound of M⁻¹K to its largest eigenvalue estimated by 40 Lanczos steps (no eigenvalues
+        are computed; the largest Ritz value is a lower bound, usually to 3 digits or more).
+        """
+        op = self._operator
+        grid = np.linspace(max(op["lo"], 0.0), max(self._largest_stiffness, op["lo"], 0.0), 513)
+        return float(np.max(self._pole_size(grid), initial=0.0))
+
+    @cached_property
+    def _largest_stiffness(self) -> float:
+        """The largest Ritz value of M^{-1/2} K M^{-1/2} after up to 40 Lanczos steps."""
+        d = self.data
+        scale = 1 / np.sqrt(d.mass)
+        rng = np.random.default_rng(14)
+        q = rng.standard_normal(d.n)
+        q /= np.linalg.norm(q)
+        previous = np.zeros(d.n)
+        alphas: list[float] = []
+        betas: list[float] = []
+        beta = 0.0
+        for _ in range(min(40, d.n)):
+            w = scale * (d.K @ (scale * q)) - beta * previous
+            alpha = float(q @ w)
+            w -= alpha * q
+            alphas.append(alpha)
+            beta = float(np.linalg.norm(w))
+            if beta <= 1e-12 * max(abs(alpha), 1e-300):
+                break
+            betas.append(beta)
+            previous, q = q, w / beta
+        off = np.array(betas[: len(alphas) - 1])
+        return float(_scipy().linalg.eigvalsh_tridiagonal(np.array(alphas), off)[-1])
+
+    @cached_property
+    def _eigenvalues(self) -> np.ndarray:
+        la = _scipy().linalg
+        d = self.data
+        scale = 1 / np.sqrt(d.mass)
+        A = d.K.multiply(scale[:, None]).multiply(scale[None, :]).tocsr()
+        if d.bandwidth == 0:
+            return np.sort(A.diagonal())
+        if d.bandwidth == 1:
+            return la.eigvalsh_tridiagonal(A.diagonal(), A.diagonal(1))
+        if d.bandwidth <= BANDED_MAX_BANDWIDTH:
+            bands = np.zeros((d.bandwidth + 1, d.n))
+            for k in range(d.bandwidth + 1):
+                bands[k, : d.n - k] = A.diagonal(-k)
+            return la.eig_banded(bands, lower=True, eigvals_only=True)
+        if d.n > DENSE_EIGENVALUES_MAX_COORDINATES:
+            raise SceneError(f"the poles of this scene need the eigenvalues of a dense {d.n:,} x "
+                             f"{d.n:,} matrix (K has half-bandwidth {d.bandwidth}), more than "
+                             f"{DENSE_EIGENVALUES_MAX_COORDINATES:,} coordinates")
+        return la.eigvalsh(A.toarray())
+
+    def poles(self) -> np.ndarray:
+        """λ = −h ± i√δ (underdamped), −s and −f (overdamped), for every mode."""
+        theta = self._eigenvalues
+        return mode_poles(theta, self.a * theta + self.b)
+
+    @cached_property
+    def _shapes(self) -> ClassicalMotion:
+        if self.n > SHAPES_MAX_COORDINATES:
+            raise SceneError(f"this scene's motion comes from a Chebyshev expansion without mode "
+                             f"shapes; its {self.n:,} coordinates are more than "
+                             f"SHAPES_MAX_COORDINATES = {SHAPES_MAX_COORDINATES:,} for the n x n "
+                             "shapes (use evaluate() for values)")
+        return ClassicalMotion(self.data)
+
+    @property
+    def modes(self) -> Any:
+        """(θ, c, Φ) from the eigen route (built on request)."""
+        return self._shapes.modes
+
+    @property
+    def has_zero_frequency(self) -> bool:
+        return False  # a zero stiffness is harmless here: F = 1, G = t (undamped)
+
+    def modal_form(self) -> ModalForm:
+        return self._shapes.modal_form()
+
+    def closed_form(self) -> Any:
+        return self._shapes.closed_form()
+
+    # -- the Chebyshev vectors -------------------------------------------------------------
+    def _recurrence(self, N: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """T_k(B)[x0 v0] for k ≤ N (n x (N+1) x columns), their M-norms and the bounds E_k
+        on their errors (both (N+1) x columns)."""
+        if self._vectors is not None and self._vectors[0] >= N:
+            _, V, norms, errors = self._vectors
+            return V[:, : N + 1], norms[: N + 1], errors[: N + 1]
+        op = self._operator
+        P, s = op["P"], op["s"]
+        starts = [self.data.x0] + ([self.data.v0] if np.any(self.data.v0) else [])
+        cols = len(starts)
+        V = np.empty((self.n, N + 1, cols))
+        V[:, 0, :] = np.stack(starts, axis=1)
+        if N >= 1:
+            V[:, 1, :] = 0.5 * (P @ V[:, 0, :] - s * V[:, 0, :])
+        for k in range(1, N):
+            current = V[:, k, :]
+            V[:, k + 1, :] = P @ current
+            V[:, k + 1, :] -= s * current
+            V[:, k + 1, :] -= V[:, k - 1, :]
+        norms = np.sqrt(np.einsum("i,ikc,ikc->kc", self.data.mass, V, V)) * (1 + (self.n + 4) * _EPS)
+        previous = np.vstack([np.zeros((1, cols)), norms[:-1]])
+        delta = op["gamma"] * ((op["alpha"] + abs(s)) * norms + previous)   # δ_j, j = 0..N
+        steps = np.arange(N + 1)[:, None]
+        S0 = np.vstack([np.zeros((1, cols)), np.cumsum(delta, axis=0)[:-1]])
+        S1 = np.vstack([np.zeros((1, cols)), np.cumsum(steps * delta, axis=0)[:-1]])
+        errors = (steps * S0 - S1) * (1 + 1e-12)   # E_k = Σ_{j<k} (k − j) δ_j
+        if V.size <= _KEEP:
+            self._vectors = (N, V, norms, errors)
+        return V, norms, errors
+
+    # -- values and bounds ----------------------------------------------------------------
+    def _degrees(self, t: np.ndarray, order: int) -> np.ndarray:
+        """The degree for each time, from that time alone (so that a value does not depend
+        on the other times of a call), rounded up to a multiple of 16 (fewer groups)."""
+        ell = self._ellipses
+        log_tol = math.log(_U / 64)
+        kinds = ["F"] + (["G"] if np.any(self.data.v0) else [])
+        need = np.max([ell.degrees(kind, order, t, log_tol) for kind in kinds], axis=0)
+        return (16 * np.ceil(np.maximum(need, 1) / 16)).astype(np.int64)
+
+    def _nodes(self, N: int) -> tuple[np.ndarray, np.ndarray]:
+        op = self._operator
+        half = np.cos(np.arange(N + 1) * math.pi / (2 * N)) ** 2    # (1 + x_j)/2
+        lam = op["lo"] + 2 * op["rad"] * half
+        error = 8 * _U * (np.abs(lam) + abs(op["lo"]))
+        return lam, error
+
+    def _functions(self, lam: np.ndarray, dlam: np.ndarray, t: np.ndarray,
+                   order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """F_t^(order), G_t^(order) at the nodes (nodes x times) and bounds on their errors."""
+        a, b = self.a, self.b
+        c = a * lam + b
+        Cf, Sf, envC, envS, h, speed = _scalar_parts(lam, c, t)
+        tt = t[None, :]
+        alam = np.abs(lam)[:, None]
+        ac = np.abs(c)[:, None]
+        beta = np.sqrt(np.maximum(-lam, 0.0))
+        mu0 = _mu(beta, c)[:, None]
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            E = np.exp(mu0 * tt)
+            m = np.minimum(tt, 1 / np.sqrt(alam))
+            bG = E * m                                          # |G| (|F| ≤ E)
+            F = Cf + h[:, None] * Sf
+            G = Sf
+            rel = (16 + 6 * speed[:, None] * tt) * _U
+            dc = 3 * _U * (a * alam + b)                        # rounding of c(λ)
+            dl = dlam[:, None]
+            dF = E * tt * m * (1 + a * np.sqrt(alam))           # ∂F/∂λ (total, through c)
+            dG = E * tt * m * (m + a)
+            eF = rel * (envC + np.abs(h)[:, None] * envS) + dl * dF + dc * tt * E
+            eG = rel * envS + dl * dG + dc * tt * m * E
+            lamc, cc = lam[:, None], c[:, None]
+            # derivatives: F' = −λG, G' = F − cG, then q'' = −c q' − λ q
+            vals = {"F": [F], "G": [G]}
+            errs = {"F": [eF], "G": [eG]}
+            if order >= 1:
+                vals["F"].append(-lamc * G)
+                errs["F"].append(alam * eG + dl * bG + 2 * _U * np.abs(vals["F"][1]))
+                vals["G"].append(F - cc * G)
+                errs["G"].append(eF + ac * eG + (dc + a * dl) * bG
+                                 + 3 * _U * (np.abs(F) + np.abs(cc * G)))
+            for k in range(2, order + 1):
+                for key in ("F", "G"):
+                    v, e = vals[key], errs[key]
+                    v.append(-cc * v[k - 1] - lamc * v[k - 2])
+                    e.append(ac * e[k - 1] + alam * e[k - 2] + (dc + a * dl) * np.abs(v[k - 1])
+                             + dl * np.abs(v[k - 2]) + 3 * _U * (np.abs(cc * v[k - 1])
+                                                               + np.abs(lamc * v[k - 2])))
+        return vals["F"][order], vals["G"][order], errs["F"][order], errs["G"][order]
+
+    def _compute(self, t: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
+        key = (t.tobytes(), order)
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
+        n = self.n
+        values = np.zeros((n, len(t)))
+        errors = np.zeros(len(t))
+        if len(t):
+            degrees = self._degrees(t, order)
+            top = int(np.max(degrees))
+            columns = 2 if np.any(self.data.v0) else 1
+            if (top + 1) * self.n * columns > MAX_VECTOR_FLOATS:
+                raise SceneError(
+                    f"the Chebyshev expansion of this scene would hold {columns} x {top + 1:,} "
+                    f"vectors of {self.n:,} entries to reach t = {float(np.max(t)):g}, more than "
+                    f"MAX_VECTOR_FLOATS = {MAX_VECTOR_FLOATS:,} floats; evaluate shorter times "
+                    "(the degree grows like t·√‖M⁻¹K‖)")
+            V, norms, vec_err = self._recurrence(top)
+            for N in (int(value) for value in np.unique(degrees)):
+                lam, dlam = self._nodes(N)
+                where = np.flatnonzero(degrees == N)
+                chunk = max(1, _CHUNK // (N + 1))
+                for start in range(0, len(where), chunk):
+                    part = where[start:start + chunk]
+                    v, e = self._chunk(t[part], order, N, V[:, : N + 1], norms[: N + 1],
+                                       vec_err[: N + 1], lam, dlam)
+                    values[:, part] = v
+                    errors[part] = e
+        bounds = np.outer(1 / self._operator["root"], errors) * (1 + 8 * _EPS)
+        self._last = (key, (values, bounds))
+        return values, bounds
+
+    def _chunk(self, t: np.ndarray, order: int, N: int, V: np.ndarray, norms: np.ndarray,
+               vec_err: np.ndarray, lam: np.ndarray, dlam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        fft = _scipy().fft
+        F, G, eF, eG = self._functions(lam, dlam, t, order)
+        lebesgue = 2 / math.pi * math.log(N + 1) + 1
+        dct_factor = math.sqrt(N + 1) * 16 * (math.log2(2 * N) + 2) * _U
+        gamma_sum = 1.01 * (N + 3) * _U
+        ell = self._ellipses
+        values = np.zeros((self.n, len(t)))
+        total = np.zeros(len(t))
+        for column, (f, ef, kind, norm) in enumerate(((F, eF, "F", self._norms[0]),
+                                                      (G, eG, "G", self._norms[1]))):
+            if column >= V.shape[2]:
+                break
+            coef = fft.dct(f, type=1, axis=0) / N
+            coef[0] /= 2
+            coef[-1] /= 2
+            values += V[:, :, column] @ coef
+            acoef = np.abs(coef)
+            with np.errstate(over="ignore", invalid="ignore"):
+                trunc = ell.truncation(kind, order, t, N)
+                nodal = lebesgue * np.max(ef, axis=0)
+                dct = dct_factor * np.sqrt(np.sum(coef * coef, axis=0))
+                size = np.max(np.abs(f), axis=0) + trunc + nodal + dct   # ≥ max |p̂_N|
+                total += (trunc + nodal + dct + 2 * _U * size) * norm
+                total += acoef.T @ vec_err[:, column] + gamma_sum * (acoef.T @ norms[:, column])
+        return values, np.where(np.isfinite(total), total, np.inf)
+
+    def values(self, times: np.ndarray, order: int = 0) -> np.ndarray:
+        """d^order x/dt^order at the times, float64, shape (n, len(times))."""
+        return self._compute(np.asarray(times, dtype=float), order)[0]
+
+    def bound(self, times: np.ndarray, order: int = 0) -> np.ndarray:
+        """A bound on the error of :meth:`values` for every entry."""
+        return self._compute(np.asarray(times, dtype=float), order)[1].copy()
+
+
+def chebyshev_motion(scene: Scene) -> ChebyshevMotion:
+    """The motion of a Rayleigh-damped scene (:func:`rayleigh_coefficients`) with a diagonal M.
+
+    Examples
+    --------
+    x'' + x' + x = 0 with x(0) = 1 (C = M: a = 0, b = 1):
+
+    >>> motion = chebyshev_motion(Scene.from_matrices(M=[[1]], C=[[1]], K=[[1]], x0=[1], v0=[0]))
+    >>> round(float(motion.values(np.array([1.0]))[0, 0]), 12)   # e^{-1/2}(cos w + sin w/(2w)), w = √3/2
+    0.659700153392
+    """
+    coefficients = rayleigh_coefficients(scene)
+    if coefficients is None:
+        raise SceneError("the Chebyshev route needs Rayleigh damping C = aK + bM (a, b ≥ 0) "
+                         "and a diagonal, positive M")
+    return ChebyshevMotion(symmetric_scene(scene, damping=coefficients), *coefficients)

@@ -1,0 +1,178 @@
+"""The Chebyshev route (Rayleigh damping, diagonal M) against independent references.
+
+References: the analytic modes of a uniform fixed-fixed chain (ω_j = 2 sin(jπ/(2(n+1))),
+shapes sin(ijπ/(n+1)), each mode's textbook solution; per-mode damping 0.01 + 0.002 ω_j²),
+the 40-digit matrix-exponential reference of :mod:`laplace_springs.bench.reference`, and
+central differences of it for derivatives. Every bound must cover the true error.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import laplace_springs as ls
+from laplace_springs import Scene, SceneError, policy
+from laplace_springs.bench.reference import reference_motion
+from laplace_springs.numeric import chebyshev
+from laplace_springs.numeric.chebyshev import ChebyshevMotion, chebyshev_motion, rayleigh_coefficients
+from laplace_springs.numeric.classical import ModalForm, classical_damping
+
+from .test_classical import analytic_chain, chain
+
+FLOAT_REFERENCE = 1e-14  # the float64 analytic reference's own error
+
+
+def analytic_rows(n: int, rows: list[int], times: np.ndarray, a: float, b: float) -> np.ndarray:
+    """Rows of the analytic chain solution (x0 = e1, v0 = 0) without the n x n shapes."""
+    j = np.arange(1, n + 1)
+    theta = 4 * np.sin(j * np.pi / (2 * (n + 1))) ** 2
+    first = np.sqrt(2 / (n + 1)) * np.sin(j * np.pi / (n + 1))
+    h = (a * theta + b) / 2
+    root = np.sqrt((theta - h**2).astype(complex))
+    out = np.empty((len(rows), len(times)))
+    for s, t in enumerate(times):
+        with np.errstate(invalid="ignore", divide="ignore"):
+            sinc = np.where(root != 0, np.sin(root * t) / np.where(root != 0, root, 1), t)
+        q = (first * np.exp(-h * t) * (np.cos(root * t) + h * sinc)).real
+        for r, i in enumerate(rows):
+            out[r, s] = np.sqrt(2 / (n + 1)) * np.sin((i + 1) * j * np.pi / (n + 1)) @ q
+    return out
+
+
+def random_rayleigh(seed: int, *, a=None, b=None) -> Scene:
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(4, 8))
+    names = [f"m{i}" for i in range(n)]
+    masses = {m: str(Fraction(int(rng.integers(1, 9)), int(rng.integers(1, 5)))) for m in names}
+    nodes = ["wall", *names, "wall"]
+    springs = {f"k{i}": (p, q, str(Fraction(int(rng.integers(1, 40)), 4)))
+               for i, (p, q) in enumerate(zip(nodes, nodes[1:]))}
+    springs["x"] = (names[0], names[-1], "3/2")  # not a chain: K is not banded
+    base = Scene.from_components(masses=masses, springs=springs, x0={names[0]: 1, names[2]: "-1/2"},
+                                 v0={names[-1]: "3/4"})
+    a = Fraction(int(rng.integers(0, 30)), 100) if a is None else Fraction(a)
+    b = Fraction(int(rng.integers(0, 300)), 100) if b is None else Fraction(b)
+    return Scene.from_matrices(M=base.M, C=a * base.K + b * base.M, K=base.K, x0=base.x0, v0=base.v0)
+
+
+def test_rayleigh_detection_is_exact():
+    scene = random_rayleigh(0, a="1/7", b="2/3")
+    assert [str(v) for v in rayleigh_coefficients(scene)] == ["1/7", "2/3"]
+    M, K = scene.M, scene.K
+    # classical but not Rayleigh: C = K M⁻¹ K commutes, yet is no combination of K and M
+    other = Scene.from_matrices(M=M, C=K * M.inv() * K / 100, K=K, x0=scene.x0, v0=scene.v0)
+    assert classical_damping(other) and rayleigh_coefficients(other) is None
+    negative = Scene.from_matrices(M=M, C=-K / 10, K=K, x0=scene.x0, v0=scene.v0)
+    assert rayleigh_coefficients(negative) is None
+    with pytest.raises(SceneError, match="Rayleigh"):
+        chebyshev_motion(other)
+
+
+@pytest.mark.parametrize("seed", range(5))
+@pytest.mark.parametrize("damping", [None, ("0", "0"), ("0", "5")])  # random, undamped, overdamped
+def test_random_rayleigh_scenes_match_the_40_digit_reference_within_their_bound(seed, damping):
+    scene = random_rayleigh(seed, **({} if damping is None else dict(zip("ab", damping))))
+    motion = chebyshev_motion(scene)
+    times = [0.0, 0.3, 1.7, 8.0, 25.0]
+    reference = reference_motion(scene, times, dps=40)
+    values, bounds = motion.values(np.array(times)), motion.bound(np.array(times))
+    error = np.abs(values - reference)
+    assert np.all(error <= bounds)
+    assert error.max() < 1e-12 * max(1.0, np.abs(reference).max())
+    step = 1e-5  # x' and x'' by central differences of the reference
+    around = reference_motion(scene, [times[2] - step, times[2], times[2] + step], dps=40)
+    for order, estimate in ((1, (around[:, 2] - around[:, 0]) / (2 * step)),
+                            (2, (around[:, 2] - 2 * around[:, 1] + around[:, 0]) / step**2)):
+        derivatives = motion.values(np.array(times), order)
+        assert np.max(np.abs(derivatives[:, 2] - estimate)) < 1e-6 * max(1.0, np.abs(estimate).max())
+        size = max(1.0, np.abs(derivatives).max())  # pessimistic (∝ t and N³ u) but useful
+        assert np.all(motion.bound(np.array(times), order) < 1e-9 * size)
+
+
+def test_chain_values_and_derivatives_match_the_analytic_modes():
+    n = 400
+    sol = ls.solve(chain(n))
+    assert isinstance(sol.motion, ChebyshevMotion) and "Chebyshev" in sol.reason
+    times = np.array([0.0, 0.5, 3.0, 17.0, 60.0, 100.0])
+    values, bounds = sol.evaluate(times, return_error=True)
+    error = np.abs(values - analytic_chain(n, times, 0.002, 0.01))
+    assert error.max() < 1e-12 and np.all(bounds + FLOAT_REFERENCE >= error)
+    assert np.max(bounds) < 1e-9  # pessimistic (about N³ u at t = 100) but useful
+    # velocity: x'(t) against the analytic x differentiated by a 4th-order difference
+    step = 1e-3
+    t = np.array([17.0])
+    samples = [analytic_chain(n, t + k * step, 0.002, 0.01)[:, 0] for k in (-2, -1, 1, 2)]
+    slope = (samples[0] - 8 * samples[1] + 8 * samples[2] - samples[3]) / (12 * step)
+    assert np.max(np.abs(sol.evaluate(t, derivative=1)[:, 0] - slope)) < 1e-9
+
+
+def test_a_value_does_not_depend_on_the_other_times():
+    sol = ls.solve(chain(300))
+    times = np.array([0.25, 2.0, 40.0])
+    together = sol.evaluate(times)
+    for k, t in enumerate(times):
+        alone = sol.evaluate([t])[:, 0]
+        assert np.max(np.abs(alone - together[:, k])) <= 1e-15 * np.max(np.abs(together[:, k])) + 1e-300
+
+
+def test_poles_modes_and_x_of_a_chebyshev_solution():
+    n = 250
+    sol = ls.solve(chain(n, a="0", b="1/10"))
+    assert isinstance(sol.motion, ChebyshevMotion)
+    omega = 2 * np.sin(np.arange(1, n + 1) * np.pi / (2 * (n + 1)))
+    root = np.sqrt((0.0025 - omega**2).astype(complex))  # λ² + λ/10 + ω²: the low modes overdamped
+    expected = np.sort_complex(np.concatenate([-0.05 + root, -0.05 - root]))
+    assert np.max(np.abs(np.sort_complex(sol.poles) - expected)) < 1e-12
+    assert isinstance(sol.x, ModalForm)
+    reference = analytic_chain(n, np.array([2.5]), 0.0, 0.1)
+    assert np.max(np.abs(sol.x(np.array([2.5])) - reference)) < 1e-12
+
+
+def test_shapes_beyond_their_size_are_refused_with_the_reason(monkeypatch):
+    monkeypatch.setattr(chebyshev, "SHAPES_MAX_COORDINATES", 200)
+    sol = ls.solve(chain(250))
+    assert sol.evaluate([1.0]).shape == (250, 1)
+    with pytest.raises(SceneError, match="SHAPES_MAX_COORDINATES = 200"):
+        sol.x
+
+
+def test_policy_routes_rayleigh_and_refuses_other_large_classical_scenes():
+    big = policy.SceneFacts(n=50_000, symbolic=False, forced=False, rational=True,
+                            first_order=True, classical=True, rayleigh=True)
+    assert big.modal_kind == "chebyshev" and policy.route_for("auto", big).route == "modal"
+    other = policy.SceneFacts(n=5_000, symbolic=False, forced=False, rational=True,
+                              first_order=True, classical=True, rayleigh=False)
+    with pytest.raises(SceneError, match="CLASSICAL_MAX_COORDINATES = 4,000"):
+        policy.route_for("modal", other)
+    small = policy.SceneFacts(n=60, symbolic=False, forced=False, rational=True,
+                              first_order=True, classical=True, rayleigh=True)
+    assert small.modal_kind == "classical"
+
+
+def test_ten_thousand_masses():
+    n = 10_000
+    scene = chain(n)
+    times = np.linspace(0, 50, 11)
+    values, bounds = ls.solve(scene).evaluate(times, return_error=True)
+    rows = [0, 1, n // 2, n - 1]
+    error = np.abs(values[rows] - analytic_rows(n, rows, times, 0.002, 0.01))
+    assert error.max() < 1e-12 and np.all(bounds[rows] + FLOAT_REFERENCE >= error)
+
+
+def test_free_free_chain_with_rigid_motion_matches_the_reference():
+    # K is singular (λ = 0: F = 1, G = t); the drift v0 makes x grow linearly
+    names = [f"m{i}" for i in range(6)]
+    springs = {f"k{i}": (p, q, str(i + 1)) for i, (p, q) in enumerate(zip(names, names[1:]))}
+    dashpots = {f"c{i}": (p, q, f"{i + 1}/20") for i, (p, q) in enumerate(zip(names, names[1:]))}
+    scene = Scene.from_components(masses={m: str(k % 3 + 1) for k, m in enumerate(names)},
+                                  springs=springs, dashpots=dashpots, x0={"m0": 1},
+                                  v0={"m5": "1/2", "m2": "-1/4"})
+    motion = chebyshev_motion(scene)
+    times = [0.0, 1.1, 6.0, 30.0]
+    reference = reference_motion(scene, times, dps=40)
+    values, bounds = motion.values(np.array(times)), motion.bound(np.array(times))
+    assert np.all(np.abs(values - reference) <= bounds)
+    assert np.max(np.abs(values - reference)) < 1e-12 * np.abs(reference).max()
