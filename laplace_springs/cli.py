@@ -5,6 +5,10 @@ Examples
 Print the closed form, the LaTeX, or a table of values of a bundled scene::
 
     laplace-springs solve vertical-pair
+    laplace-springs solve three-dashpots --pretty
+    laplace-springs solve vertical-pair --modes
+    laplace-springs solve chain.toml                 # a large scene: its modal summary
+    laplace-springs solve chain.toml --formula --coordinates x1,x2
     laplace-springs solve vertical-pair --latex
     laplace-springs solve wall-pair-dashpot --latex --standalone -o wall-pair-dashpot.tex
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
@@ -36,14 +40,15 @@ import sympy as sp
 
 from ._version import __version__
 from .analysis.frequency import frequency_response
-from .analysis.modes import modes
+from .analysis.modes import float_modes, modes
 from .bench import harness as bm
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
-from .model.symbols import lam
 from .output.plots import overview_figure, plot_frequency_response
+from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
+from .policy import EXACT_FORM_MAX_COORDINATES
 from .solution import Solution
 from .solve import solve
 
@@ -53,6 +58,9 @@ PROG = "laplace-springs"
 
 #: Significant digits of the ``--at`` table when no ``--dps`` is given.
 TABLE_DIGITS = 12
+#: Largest number of terms ``--formula`` prints for a scene beyond the exact form
+#: (coordinates × terms per coordinate); choose coordinates with ``--coordinates``.
+FORMULA_MAX_TERMS = 4000
 
 _EXIT_ERROR = 2
 _EXIT_INTERNAL = 1
@@ -95,11 +103,21 @@ def _build_parser() -> argparse.ArgumentParser:
                        help="a bundled scene name (see 'laplace-springs scenes') or a .toml path")
     output = solve.add_mutually_exclusive_group()
     output.add_argument("--pretty", action="store_true",
-                        help="print each coordinate as a 2-D pretty-printed formula")
+                        help="print the formula (or the modes) in Unicode: α₁, β₁, e^(α₁·t), c₁")
     output.add_argument("--latex", action="store_true",
                         help="print x(t) in LaTeX (aligned blocks, named constants defined)")
     output.add_argument("--at", metavar="T1,T2,...",
                         help="print a table of values at these times (t >= 0)")
+    shown = solve.add_mutually_exclusive_group()
+    shown.add_argument("--formula", action="store_true",
+                       help="print the formula x(t) (the default up to "
+                            f"{EXACT_FORM_MAX_COORDINATES} coordinates; larger scenes print "
+                            "their modal summary unless asked)")
+    shown.add_argument("--modes", action="store_true",
+                       help="print the modal summary: natural frequencies, damping ratios and "
+                            "each mode's part in the initial data")
+    solve.add_argument("--coordinates", metavar="NAMES",
+                       help="with the formula: only these coordinates (or masses), e.g. x1,x5")
     solve.add_argument("--dps", type=int, metavar="N",
                        help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
     solve.add_argument("--plot", metavar="FILE",
@@ -215,50 +233,52 @@ def _check_dps(args: argparse.Namespace) -> None:
         raise UsageError(f"--dps must be between 1 and 10000, got {args.dps}")
 
 
-def _root_names(exprs: Sequence[sp.Expr]) -> dict[sp.CRootOf, sp.Symbol]:
-    """Short names r1, r2, ... for the CRootOf objects in the expressions."""
-    roots = sorted(set().union(*(e.atoms(sp.CRootOf) for e in exprs)), key=sp.default_sort_key)
-    return {root: sp.Symbol(f"r{j}") for j, root in enumerate(roots, start=1)}
-
-
-def _root_legend(names: dict[sp.CRootOf, sp.Symbol]) -> list[str]:
-    """Lines ``where r1 = CRootOf(...) ≈ value`` for the named roots."""
-    if not names:
-        return []
-    lines = ["where (algebraic numbers: CRootOf(p, k) is the k-th root of p)"]
-    for root, name in names.items():
-        # CRootOf holds a generator-free PurePoly, and SymPy's cache may hand back an
-        # instance first built in another variable: always print p in λ.
-        poly = sp.sstr(root.poly.as_expr(lam))
-        lines.append(f"  {name} = CRootOf({poly}, {root.index}) ≈ {sp.sstr(sp.N(root, 15))}")
-    return lines
-
-
-def _formula_lines(scene: Scene, solution: Solution, *, pretty: bool) -> list[str]:
-    """``x1(t) = ...`` for each coordinate, with long root objects named once."""
-    exprs = list(solution.x)
-    names = _root_names(exprs)
-    lines = []
-    for name, expr in zip(scene.names, exprs):
-        short = expr.xreplace(names)
-        if pretty:
-            lines += [f"{name}(t) =", sp.pretty(short, use_unicode=True), ""]
+def _coordinates_of(scene: Scene, text: str | None) -> list[int] | None:
+    """The coordinates ``--coordinates`` names (coordinate or mass names), in order given."""
+    if text is None:
+        return None
+    chosen: list[int] = []
+    for item in (part.strip() for part in text.split(",")):
+        for names in (scene.names, scene.mass_names):
+            if item in names:
+                index = names.index(item)
+                break
         else:
-            lines.append(f"{name}(t) = {sp.sstr(short)}")
-    conditions = [f"valid where {condition.meaning}" for condition in solution.conditions]
-    return lines + _definition_lines(solution) + conditions + _root_legend(names)
+            shown = ", ".join(scene.names[:8]) + (", ..." if scene.n > 8 else "")
+            raise UsageError(f"--coordinates: the scene has no coordinate or mass {item!r}; "
+                             f"its coordinates are {shown}")
+        if index in chosen:
+            raise UsageError(f"--coordinates: {item!r} is given twice")
+        chosen.append(index)
+    return chosen
 
 
-def _definition_lines(solution: Solution) -> list[str]:
-    """``where gamma_1 = c/2 (decay rate)``: the named quantities of the formula."""
-    definitions = solution.definitions
-    if not definitions:
-        return []
-    lines = ["where"]
-    for quantity, definition in definitions.items():
-        meaning = f"   ({quantity.meaning})" if getattr(quantity, "meaning", "") else ""
-        lines.append(f"  {quantity} = {sp.sstr(definition)}{meaning}")
-    return lines
+def _check_shown_options(args: argparse.Namespace) -> None:
+    if (args.formula or args.modes) and (args.latex or args.at is not None):
+        raise UsageError("--formula and --modes go without --latex and --at")
+    if args.coordinates is not None and (args.modes or args.latex or args.at is not None):
+        raise UsageError("--coordinates goes with the formula (not with --modes, --latex or --at)")
+
+
+def _is_large(scene: Scene) -> bool:
+    """Beyond the exact form: the summary by default, the formula from float64 modes."""
+    return scene.n > EXACT_FORM_MAX_COORDINATES and not scene.free_symbols
+
+
+def _large_formula_lines(scene: Scene, chosen: list[int] | None, pretty: bool) -> list[str]:
+    """The formula of a large scene from its float64 modes, if it is small enough."""
+    if scene.is_forced:
+        raise UsageError(f"--formula: the formula of a forced scene of more than "
+                         f"{EXACT_FORM_MAX_COORDINATES} coordinates is not written out; "
+                         f"tabulate it with --at")
+    mode_list = float_modes(scene)
+    count = len(chosen) if chosen is not None else scene.n
+    terms = count * formula_terms(scene, mode_list)
+    if terms > FORMULA_MAX_TERMS:
+        raise UsageError(f"--formula: x(t) of {count} coordinates has up to {terms:,} terms "
+                         f"(more than {FORMULA_MAX_TERMS:,}); choose coordinates with "
+                         f"--coordinates {','.join(scene.names[:2])}, or see the modes with --modes")
+    return modal_formula_lines(scene, chosen, pretty=pretty, mode_list=mode_list)
 
 
 def _format_value(value, digits: int) -> str:
@@ -288,26 +308,40 @@ def _table_lines(names: Sequence[str], times: Sequence[float], values, digits: i
 def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     _check_dps(args)
     _check_latex_options(args)
+    _check_shown_options(args)
     times = parse_times(args.at) if args.at is not None else None
     scene = _scene_of(args)
     if args.forcing:
         scene = scene.with_forcing(_forcing_argument(scene, args.forcing))
+    chosen = _coordinates_of(scene, args.coordinates)
     if times is not None:
         _require_numbers(scene, "a table of values (--at)")
     if args.plot:
         _require_numbers(scene, "a plot (--plot)")
+    text = not args.latex and times is None
+    summary = args.modes or (text and _is_large(scene) and not args.formula and chosen is None)
+    if summary:
+        _require_numbers(scene, "the modal summary (--modes)")
+    lines = [scene.title] if scene.title else []
+    if summary or (text and _is_large(scene)):  # from the modes: no solution needed
+        lines += summary_lines(scene, pretty=args.pretty) if summary else \
+            _large_formula_lines(scene, chosen, pretty=args.pretty)
+        if args.plot:
+            _save_plot(solve(scene), args.plot)
+        print("\n".join(lines), file=out)
+        return
     solution = solve(scene)
     if args.plot:
         _save_plot(solution, args.plot)
     if args.latex:
         _write_latex(solution, args, out)
         return
-    lines = [scene.title] if scene.title else []
     if times is not None:
         values = solution.evaluate(times, dps=args.dps)
         lines += _table_lines(scene.names, times, values, args.dps or TABLE_DIGITS)
     else:
-        lines += _formula_lines(scene, solution, pretty=args.pretty)
+        lines += formula_lines(scene, list(solution.x), solution.conditions, pretty=args.pretty,
+                               coordinates=chosen)
     print("\n".join(lines), file=out)
 
 
@@ -455,7 +489,7 @@ def _add_bench_command(commands) -> None:
         "bench", help="error against run time: our routes and the peers on the battery",
         description="Measure error (against a 60-digit reference) and run time of every "
                     "method on every battery scene; write report.md, results.csv and "
-                    "plots/<scene>.png, and print the Pareto verdicts.")
+                    "plots/<scene>.png, and print both verdicts (on the Pareto front; fastest at this accuracy).")
     bench.add_argument("-o", "--out", default="bench-out", metavar="DIR",
                        help="output directory (default: bench-out)")
     bench.add_argument("--scenes", metavar="PATTERNS",

@@ -40,6 +40,7 @@ from .numeric.first_order import massless_nodes, scene_arrays
 from .numeric.times import Times, as_times, check_dps
 from .output.latex import matrix_latex
 from .output.plots import plot_energy, plot_motion, plot_phase
+from .output.text import formula_lines, summary_lines
 from .policy import (
     EXACT_FORM_MAX_COORDINATES,
     MIN_RELATIVE_BOUND,
@@ -87,6 +88,18 @@ class Verification:
 
     def __bool__(self) -> bool:
         return self.ok
+
+    def __repr__(self) -> str:
+        """``Verification(ok: ODE residual 2.1e-16, initial 0 (tolerance 1e-09))``.
+
+        >>> Verification(2.1e-16, 0.0, 1e-9)
+        Verification(ok: ODE residual 2.1e-16, initial 0 (tolerance 1e-09))
+        >>> Verification(3e-5, 0.0, 1e-9)
+        Verification(FAILED: ODE residual 3e-05, initial 0 (tolerance 1e-09))
+        """
+        verdict = "ok" if self.ok else "FAILED"
+        return (f"Verification({verdict}: ODE residual {self.ode_residual:.2g}, initial "
+                f"{self.initial_residual:.2g} (tolerance {self.tolerance:.2g}))")
 
 
 def _check_order(derivative: object) -> int:
@@ -241,6 +254,18 @@ class Solution(ABC):
 
     def _repr_latex_(self) -> str:
         return "$$" + self.latex() + "$$"
+
+    def __str__(self) -> str:
+        """The title and x(t) with named rates, frequencies and coefficients (their values and
+        exact definitions under "where"); beyond EXACT_FORM_MAX_COORDINATES coordinates, the
+        modal summary instead (see :mod:`laplace_springs.output.text`)."""
+        lines = [self.scene.title] if self.scene.title else []
+        if self.scene.n > EXACT_FORM_MAX_COORDINATES and not self.scene.free_symbols:
+            lines.append(f"{self.method} route: {self.reason}")
+            lines += summary_lines(self.scene)
+        else:
+            lines += formula_lines(self.scene, list(self.x), self.conditions)
+        return "\n".join(lines)
 
     def __repr__(self) -> str:
         poles = self.poles

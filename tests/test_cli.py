@@ -99,24 +99,39 @@ def test_solve_prints_title_and_one_line_per_coordinate(capsys):
         assert sympy.simplify(printed - exact) == 0
 
 
-def test_solve_names_algebraic_roots_once(capsys):
+def named_values(lines: list[str]) -> dict[sympy.Symbol, float]:
+    """The names and printed values of a "where" list: ``  alpha_1 ≈ -0.4, beta_1 ≈ 0.9``."""
+    values = {}
+    for line in lines:
+        for item in line.split(", "):
+            name, approx, value = item.strip().partition(" ≈ ")
+            if approx and name.replace("_", "").isalnum():
+                values[sympy.Symbol(name)] = float(value.split()[0])
+    return values
+
+
+def test_solve_names_rates_frequencies_and_coefficients(capsys):
     code, out, _ = run(capsys, "solve", "wall-pair-dashpot")
     assert code == 0
     lines = out.splitlines()
     assert lines[1].startswith("x1(t) = ") and lines[2].startswith("x2(t) = ")
-    assert "CRootOf" not in lines[1] + lines[2]
-    legend = {line.split(" = ")[0].strip(): line for line in lines[4:]}
-    assert set(legend) == {"r1", "r2"}
-    assert "CRootOf(200*lambda**4 + 180*lambda**3 + 411*lambda**2 + 180*lambda + 200, 1)" in legend["r1"]
+    assert lines[3] == "where"
+    assert "CRootOf" not in out and "re(" not in out and "im(" not in out
+    values = named_values(lines[4:])
+    names = {"alpha_1", "beta_1", "alpha_2", "beta_2"} | {f"c_{j}" for j in range(1, 9)}
+    assert {symbol.name for symbol in values} == names
+    # (λ - α)² + β² divides the seed's characteristic polynomial 200λ⁴ + 180λ³ + 411λ² + 180λ + 200
+    for j in (1, 2):
+        root = complex(values[sympy.Symbol(f"alpha_{j}")], values[sympy.Symbol(f"beta_{j}")])
+        assert abs(np.polyval([200, 180, 411, 180, 200], root)) < 1e-8
 
-    # The printed formula, with the printed 15-digit roots, against the matrix exponential.
-    roots = {sympy.Symbol(name): sympy.sympify(line.split("≈")[1]) for name, line in legend.items()}
+    # The printed formula with the printed 12-digit values, against the matrix exponential.
     t = sympy.Symbol("t")
+    local = {"t": t, **{symbol.name: symbol for symbol in values}}
     for index, line in enumerate(lines[1:3]):
-        printed = sympy.sympify(line.split(" = ", 1)[1], locals={"t": t, "r1": sympy.Symbol("r1"),
-                                                                  "r2": sympy.Symbol("r2")})
-        value = complex(printed.subs(roots).subs(t, sympy.Rational(3, 2)).evalf(20))
-        assert value.real == pytest.approx(float(example_4("1.5")[index]), abs=1e-10)
+        printed = sympy.sympify(line.split(" = ", 1)[1], locals=local)
+        value = float(printed.subs(values).subs(t, sympy.Rational(3, 2)))
+        assert value == pytest.approx(float(example_4("1.5")[index]), abs=1e-10)
 
 
 def test_at_table_matches_seed_example_1(capsys):
@@ -166,11 +181,11 @@ def test_latex_prints_the_aligned_block(capsys):
     assert "x_{1}(t) &=" in out and "x_{2}(t) &=" in out
 
 
-def test_pretty_prints_two_dimensional_formulas(capsys):
+def test_pretty_prints_unicode_formulas(capsys):
     code, out, _ = run(capsys, "solve", "vertical-pair", "--pretty")
     assert code == 0
-    assert "x1(t) =" in out and "x2(t) =" in out
-    assert len(out.splitlines()) > 5
+    assert "x₁(t) =" in out and "x₂(t) =" in out
+    assert "2·cos(2·t)/3" in out and "**" not in out
 
 
 def test_solve_reads_a_scene_file(capsys, tmp_path):
@@ -247,6 +262,38 @@ def test_bad_times_are_one_line(capsys, times, fragment):
 ])
 def test_bad_dps_is_one_line(capsys, args, fragment):
     assert_one_line_error(*run(capsys, "solve", "vertical-pair", *args), fragment)
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--formula", "--latex"], "--formula and --modes go without --latex and --at"),
+    (["--modes", "--at", "1"], "--formula and --modes go without --latex and --at"),
+    (["--modes", "--coordinates", "x1"], "--coordinates goes with the formula"),
+    (["--coordinates", "x3"], "--coordinates: the scene has no coordinate or mass 'x3'; "
+                              "its coordinates are x1, x2"),
+    (["--coordinates", "x1,m1"], "--coordinates: 'm1' is given twice"),
+])
+def test_bad_formula_options_are_one_line(capsys, args, fragment):
+    assert_one_line_error(*run(capsys, "solve", "vertical-pair", *args), fragment)
+
+
+def test_coordinates_choose_formula_lines_and_their_names(capsys):
+    code, out, err = run(capsys, "solve", "three-dashpots", "--coordinates", "m2")
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[1].startswith("x2(t) = (c_1*cos(beta_1*t)") and not any(
+        line.startswith("x1(t)") for line in lines)
+    assert sum(line.strip().startswith("c_") and "≈" in line for line in lines) == 4
+
+
+def test_modes_of_a_symbolic_scene_need_numbers(capsys, tmp_path):
+    path = tmp_path / "osc.toml"
+    path.write_text('[parameters]\nk = "stiffness"\n[masses]\nm1 = "1"\n[springs]\n'
+                    'k1 = ["wall", "m1", "k"]\n[initial]\nx0 = ["1"]\n', encoding="utf-8")
+    assert_one_line_error(*run(capsys, "solve", str(path), "--modes"),
+                          "the modal summary (--modes) needs numbers", "--param k=...")
+    code, out, err = run(capsys, "solve", str(path), "--modes", "--param", "k=4")
+    assert code == 0, err
+    assert out.splitlines()[2].split()[:2] == ["1", "2"]  # ω = sqrt(k/m) = 2
 
 
 @pytest.mark.parametrize("args", [

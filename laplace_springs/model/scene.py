@@ -56,8 +56,6 @@ __all__ = [
     "MAX_COMPONENTS",
     "MAX_COORDINATES",
     "MAX_MATRIX_INPUT_SIZE",
-    "SUPPORTS",
-    "Component",
     "ExactSparseMatrix",
     "Scene",
 ]
@@ -1385,7 +1383,7 @@ class Scene:
             The masses, in coordinate order.
         springs, dashpots : mapping or sequence, optional
             ``{label: (node_a, node_b, value)}``, or rows ``(label, node_a, node_b, value)``.
-            A node is a mass name or a fixed support, one of :data:`SUPPORTS`
+            A node is a mass name or a fixed support, one of :data:`~laplace_springs.model.supports.SUPPORTS`
             (case-insensitive). A spring ``k`` between masses i and j adds ``k`` to
             ``K[i,i]`` and ``K[j,j]`` and ``-k`` to ``K[i,j]`` and ``K[j,i]``; to a
             support it adds ``k`` to ``K[i,i]`` only. Dashpots fill ``C`` alike.

@@ -35,6 +35,7 @@ positive off-diagonal stiffness, an unsymmetrisable A) raises
 
 from __future__ import annotations
 
+import io
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -43,9 +44,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy as sp
 
+from ..model.components import Component
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
-from ..model.scene import Component, Scene
+from ..model.scene import Scene, register_diagram_renderer
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -649,3 +651,56 @@ def _finish(ax: Axes, limits: tuple[float, float, float, float]) -> None:
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_axis_off()
+
+
+#: Largest scene drawn for a notebook's display of a Scene (its diagram is unreadable beyond).
+DISPLAY_MAX_MASSES = 24
+
+
+def scene_image(scene: Scene, fmt: str = "png") -> bytes | str | None:
+    """The scene's diagram as PNG bytes or SVG text, for a notebook's display of a Scene.
+
+    Drawn on a figure outside pyplot (nothing is left open, nothing shows twice). None
+    without matplotlib, for a scene :func:`draw_scene` cannot draw, or one with more than
+    :data:`DISPLAY_MAX_MASSES` masses.
+
+    Parameters
+    ----------
+    scene : Scene
+    fmt : {"png", "svg"}
+
+    Returns
+    -------
+    bytes, str or None
+
+    Examples
+    --------
+    >>> from laplace_springs import load_scene
+    >>> scene_image(load_scene("three-dashpots"))[:4]
+    b'\\x89PNG'
+    >>> scene_image(load_scene("three-dashpots"), "svg").lstrip().startswith("<?xml")
+    True
+    """
+    if fmt not in ("png", "svg") or scene.n > DISPLAY_MAX_MASSES:
+        return None
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        return None
+    figure = Figure()
+    ax = figure.add_axes((0.0, 0.0, 1.0, 1.0))
+    try:
+        draw_scene(scene, ax)
+    except SceneError:
+        return None
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    scale, titled = 0.8, bool(ax.get_title())  # as draw_scene sizes its own figure
+    figure.set_size_inches((x1 - x0) * scale, (y1 - y0) * scale + (0.45 if titled else 0.0))
+    ax.set_position((0.0, 0.0, 1.0, (y1 - y0) * scale / figure.get_figheight()))
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format=fmt, dpi=80)
+    data = buffer.getvalue()
+    return data if fmt == "png" else data.decode("utf-8")
+
+
+register_diagram_renderer(scene_image)

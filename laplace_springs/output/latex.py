@@ -53,12 +53,12 @@ from sympy.printing.latex import LatexPrinter
 
 from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion
-from ..exact.named import definitions, named, named_quantities
 from ..exact.real_terms import RootSumTerm, Term
 from ..exact.resolvent import Resolvent
 from ..exact.sylvester import FunctionName, matrix_function_terms, sylvester_matrices
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from .named_terms import NamedConstants, NamedTerms, reading_order
 
 __all__ = ["LatexWriter", "solution_latex", "resolvent_latex", "sylvester_latex", "matrix_latex",
            "as_markdown", "as_document", "latex_name"]
@@ -80,7 +80,7 @@ class _Printer(LatexPrinter):
     """SymPy's LaTeX printer with the conventions of this module."""
 
     def _as_ordered_terms(self, expr, order=None):
-        return sorted(super()._as_ordered_terms(expr, order=order), key=_reading_order)
+        return sorted(super()._as_ordered_terms(expr, order=order), key=reading_order)
 
     def _print_Heaviside(self, expr, exp=None):
         tex = rf"\theta\left({self._print(expr.args[0])}\right)"
@@ -133,23 +133,6 @@ def _rhs_lines(expr: sp.Expr, width: int = LINE_WIDTH) -> list[str]:
     return lines + [current]
 
 
-def _argument_key(arg: sp.Expr) -> tuple:
-    at_one = arg.subs(TIME, 1)
-    if at_one.is_number:
-        value = complex(sp.N(at_one))
-        return (0, abs(value.real), abs(value.imag), "")
-    return (1, 0.0, 0.0, sp.sstr(arg))
-
-
-def _reading_order(term: sp.Expr) -> tuple:
-    """Terms of one mode together, slowest first, cos before sin, in rising powers of t."""
-    waves = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.cos, sp.sin, sp.cosh, sp.sinh))
-    rates = sorted(_argument_key(f.args[0]) for f in term.atoms(sp.exp))
-    kind = 0 if term.has(sp.cos, sp.cosh) else 1
-    power = sp.degree(term, TIME) if (waves or rates) and term.is_polynomial(TIME) else 0
-    return (tuple(waves), tuple(rates), kind, power)
-
-
 def _equation_rows(lhs: str, expr: sp.Expr) -> list[str]:
     """``lhs &= ...`` and ``&\\quad + ...`` continuation rows of an aligned block."""
     parts = _rhs_lines(expr)
@@ -187,158 +170,41 @@ def _number(value: sp.Expr, digits: int = DIGITS) -> str:
     return text
 
 
-@dataclass
-class _Constants:
-    """Names for algebraic numbers (α_j, β_j, r_j) and for coefficients built on them."""
-
-    roots: dict[sp.Expr, tuple[sp.Symbol, ...]] = field(default_factory=dict)
-    coefficients: dict[sp.Expr, sp.Symbol] = field(default_factory=dict)
-    values: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
-
-    def register_roots(self, exprs: Sequence[sp.Expr]) -> None:
-        found: set[sp.CRootOf] = set().union(*(e.atoms(sp.CRootOf) for e in exprs))
-        count = len(self.roots)
-        for root in sorted(found - set(self.roots), key=_root_order):
-            count += 1
-            names: tuple[sp.Symbol, ...]
-            if _is_real_root(root):
-                names = (sp.Symbol(f"r_{count}", real=True),)
-                self.values[names[0]] = root
-            else:
-                names = (sp.Symbol(f"alpha_{count}", real=True), sp.Symbol(f"beta_{count}", real=True))
-                self.values[names[0]], self.values[names[1]] = sp.re(root), sp.im(root)
-            self.roots[root] = names
-
-    def _root_map(self) -> dict:
-        out = {}
-        for root, names in self.roots.items():
-            if len(names) == 1:
-                out[root] = names[0]
-            else:
-                out[sp.re(root)], out[sp.im(root)] = names
-                out[root] = names[0] + sp.I * names[1]
-        return out
-
-    def replace(self, expr: sp.Expr) -> sp.Expr:
-        """``expr`` with coefficients on algebraic numbers named, roots replaced by names."""
-        expr = sp.sympify(expr, strict=True)
-        if not expr.has(sp.CRootOf):
-            return expr
-        return self._name_coefficients(expr).xreplace(self._root_map())
-
-    def _name_coefficients(self, expr: sp.Expr) -> sp.Expr:
-        if not expr.has(sp.CRootOf):
-            return expr
-        if isinstance(expr, sp.Add):
-            return sp.Add(*(self._name_coefficients(a) for a in sorted(expr.args, key=_reading_order)))
-        if isinstance(expr, sp.Mul):
-            timed = [a for a in expr.args if a.has(TIME)]
-            constant = sp.Mul(*(a for a in expr.args if not a.has(TIME)))
-            return self._constant(constant) * sp.Mul(*(self._name_coefficients(a) for a in timed))
-        if expr.has(TIME):
-            return expr  # exp(α t), cos(β t): the root inside is renamed afterwards
-        return self._constant(expr)
-
-    def _constant(self, expr: sp.Expr) -> sp.Expr:
-        """Name the algebraic coefficient(s) of a time-independent factor."""
-        if not expr.has(sp.CRootOf) or _is_bare_root_part(expr):
-            return expr
-        symbols = sorted(expr.free_symbols, key=lambda s: s.name)
-        if symbols:  # symbolic initial data: name the coefficient of each symbol
-            parts = sp.collect(sp.expand(expr), symbols, evaluate=False)
-            return sp.Add(*(self._constant(c) * m for m, c in parts.items()))
-        if expr not in self.coefficients:
-            name = sp.Symbol(f"c_{len(self.coefficients) + 1}", real=True)
-            self.coefficients[expr] = name
-            self.values[name] = expr
-        return self.coefficients[expr]
-
-    def rows(self) -> list[str]:
-        """The "where" rows: roots first, then the named coefficients."""
-        rows = []
-        for root, names in self.roots.items():
-            poly = _poly_tex(sp.Poly(root.poly.as_expr(), root.poly.gen))
-            if len(names) == 1:
-                rows.append(rf"{_tex(names[0])} &\approx {_number(root)} "
-                            rf"\quad \text{{(a root of }} {poly}\text{{)}}")
-            else:
-                alpha, beta = names
-                rows.append(rf"{_tex(alpha)} &\approx {_number(sp.re(root))}, \quad "
-                            rf"{_tex(beta)} \approx {_number(sp.im(root))}")
-                rows.append(rf"&\quad \text{{(}}\left(\lambda - {_tex(alpha)}\right)^{{2}} + "
-                            rf"{_tex(beta)}^{{2}} \text{{ is a factor of }} {poly}\text{{)}}")
-        mapping = self._root_map()
-        for expr, name in self.coefficients.items():
-            rows += _equation_rows(_tex(name), expr.xreplace(mapping))
-            rows[-1] += rf" \approx {_number(expr)}"
-        return rows
-
-
-def _root_order(root: sp.CRootOf) -> tuple:
-    value = complex(numeric_value(root, 20))
-    return (value.imag != 0, abs(value.imag), value.real, str(root.poly.as_expr()))
-
-
-def _is_real_root(root: sp.CRootOf) -> bool:
-    return bool(root.is_real)
-
-
-def _is_bare_root_part(expr: sp.Expr) -> bool:
-    """re(r), im(r), r itself or a rational multiple: shown through the root's names."""
-    core = expr.as_coeff_Mul()[1]
-    return isinstance(core, (sp.re, sp.im, sp.CRootOf))
+def _constant_rows(constants: NamedConstants) -> list[str]:
+    """The "where" rows of the named constants: roots first, then the coefficients."""
+    rows = []
+    for root, names in constants.roots.items():
+        poly = _poly_tex(sp.Poly(root.poly.as_expr(), root.poly.gen))
+        if len(names) == 1:
+            rows.append(rf"{_tex(names[0])} &\approx {_number(root)} "
+                        rf"\quad \text{{(a root of }} {poly}\text{{)}}")
+        else:
+            alpha, beta = names
+            rows.append(rf"{_tex(alpha)} &\approx {_number(sp.re(root))}, \quad "
+                        rf"{_tex(beta)} \approx {_number(sp.im(root))}")
+            rows.append(rf"&\quad \text{{(}}\left(\lambda - {_tex(alpha)}\right)^{{2}} + "
+                        rf"{_tex(beta)}^{{2}} \text{{ is a factor of }} {poly}\text{{)}}")
+    mapping = constants.root_map()
+    for expr, name in constants.coefficients.items():
+        rows += _equation_rows(_tex(name), expr.xreplace(mapping))
+        rows[-1] += rf" \approx {_number(expr)}"
+    return rows
 
 
 # ---------------------------------------------------------------------------
 # the writer
 # ---------------------------------------------------------------------------
-def _is_step_at_zero(expr: sp.Basic) -> bool:
-    """θ(t): the solution holds for t ≥ 0, where it is 1."""
-    return isinstance(expr, sp.Heaviside) and expr.args[0] == TIME
-
-
 @dataclass
-class LatexWriter:
-    """Collects aligned blocks and the names they use; renders them in one of three shapes."""
+class LatexWriter(NamedTerms):
+    """Collects aligned blocks and the names they use; renders them in one of three shapes.
+
+    The names (α_j, β_j, c_j, ω_j, ...) come from
+    :class:`~laplace_springs.output.named_terms.NamedTerms`, shared with the plain text.
+    """
 
     blocks: list[list[str]] = field(default_factory=list)
-    constants: _Constants = field(default_factory=_Constants)
-    named: list[sp.Expr] = field(default_factory=list)
-    has_step: bool = False
-    renames: dict = field(default_factory=dict)
-    taken: dict = field(default_factory=dict)
     defined_rows: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-
-    def prepare(self, exprs: Sequence[sp.Expr]) -> list[sp.Expr]:
-        """Drop θ(t), note θ(t − τ), name algebraic numbers; returns the printable forms."""
-        out = []
-        given = [sp.sympify(e, strict=True) for e in exprs]
-        steps_dropped = [e.replace(_is_step_at_zero, lambda h: sp.S.One) for e in given]
-        renamed = self._distinct_names(steps_dropped)
-        self.constants.register_roots(renamed)
-        for e in renamed:
-            self.has_step |= e.has(sp.Heaviside)
-            self.named.append(e)
-            out.append(self.constants.replace(e))
-        return out
-
-    def _distinct_names(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
-        """Re-index named quantities that share a printed name but differ (ω₁ of two factors)."""
-        for q in named_quantities(exprs):
-            if q in self.renames:
-                continue
-            key = (q.base, q.index)
-            if self.taken.setdefault(key, q) == q:
-                self.renames[q] = q
-                continue
-            index = 1 + max(i for base, i in self.taken if base == q.base)
-            display = None if q.display is None else q.display.xreplace(self.renames)
-            twin = named(q.base, index, q.definition, positive=q.positive, meaning=q.meaning,
-                         display=display)
-            self.taken[(q.base, index)] = twin
-            self.renames[q] = twin
-        return [e.xreplace(self.renames) for e in exprs]
 
     def equation(self, lhs: str, expr: sp.Expr) -> list[str]:
         """Rows ``lhs &= expr`` (split over lines if long), names registered.
@@ -360,10 +226,10 @@ class LatexWriter:
     def where_rows(self) -> list[str]:
         """Rows defining every named quantity and constant used so far."""
         rows = list(self.defined_rows)
-        for q, shown in definitions(self.named).items():
+        for q, shown in self.definitions().items():
             meaning = rf" && \text{{{q.meaning}}}" if q.meaning else ""
             rows.append(f"{_tex(q)} &= {_tex(shown)}{meaning}")
-        rows += self.constants.rows()
+        rows += _constant_rows(self.constants)
         if self.has_step:
             rows.append(r"\theta(s) &= 1 \text{ for } s \geq 0, \quad \theta(s) = 0 "
                         r"\text{ for } s < 0 && \text{unit step}")
@@ -678,6 +544,8 @@ def solution_latex(motion: ExactMotion, *, form: str = "terms", resolvent: bool 
     """
     writer = LatexWriter()
     writer.blocks.append(_motion_rows(writer, motion, form))
+    writer.notes += [rf"&\text{{valid for }} {condition.latex()}"
+                     for condition in getattr(motion, "generic_conditions", ())]
     if resolvent:
         writer.blocks.append(_resolvent_rows(motion.resolvent))
     if sylvester:
