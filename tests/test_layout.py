@@ -17,7 +17,8 @@ PACKAGE = Path(__file__).resolve().parent.parent / "laplace_springs"
 #: Stages in data-flow order; a module may import only its own stage or earlier ones.
 STAGES = ("_version", "model", "exact", "numeric", "analysis", "output", "policy", "solution",
           "routes", "solve", "sweeps", "bench", "cli", "__init__", "__main__")
-#: Third-party packages that are not core dependencies: imported where used.
+#: Third-party packages imported where used: the optional ones, and SciPy (a core dependency,
+#: but its submodules take up to a second to import, so only the routes that need them do).
 OPTIONAL = {"matplotlib", "scipy", "control", "dask", "distributed", "nbclient", "nbformat"}
 
 

@@ -81,6 +81,10 @@ SHAPES_MAX_COORDINATES = 4_000
 DENSE_EIGENVALUES_MAX_COORDINATES = 4_000
 _EPS = float(np.finfo(float).eps)
 _U = _EPS / 2
+#: The working precision of the recurrence, the values at the nodes and the DCT: the x87
+#: long double (64-bit significand, unit roundoff 2^-64) where numpy has it, else float64.
+_WORK: Any = np.longdouble if float(np.finfo(np.longdouble).eps) < _EPS / 1024 else np.float64
+_UW = float(np.finfo(_WORK).eps) / 2
 #: Bernstein-ellipse parameters r = 1 + ε tried for the truncation bound.
 _RADII = 1 + np.geomspace(1e-4, 8.0, 40)
 #: Boxes covering the upper half of each ellipse.
@@ -143,6 +147,20 @@ def _rayleigh(scene: Scene) -> tuple[Any, Any] | None:
 
 
 # ----------------------------------------------------------------------------- bounds
+
+
+def _work_number(value: Any) -> tuple[Any, float]:
+    """A rational (flint fmpq, Fraction, int) or float in the working precision and a bound
+    on its relative error: one rounding when its numerator and denominator are below 2^63,
+    else it goes through float64."""
+    if isinstance(value, float):
+        return _WORK(value), 0.0
+    p, q = getattr(value, "p", None), getattr(value, "q", None)
+    if p is None:
+        p, q = getattr(value, "numerator", None), getattr(value, "denominator", None)
+    if p is not None and abs(int(p)) < 2**63 and 0 < int(q) < 2**63:
+        return _WORK(int(p)) / _WORK(int(q)), _UW
+    return _WORK(float(value)), _U + _UW
 
 
 def _mu(beta: np.ndarray, gamma: np.ndarray) -> np.ndarray:
@@ -238,11 +256,16 @@ class ChebyshevMotion:
     eigen route's shapes on request (up to :data:`SHAPES_MAX_COORDINATES` coordinates).
     """
 
-    def __init__(self, data: SymmetricScene, a: Any, b: Any) -> None:
+    def __init__(self, data: SymmetricScene, a: Any, b: Any, *, exact_data: bool = False) -> None:
         if not data.diagonal or not np.all(data.mass > 0):
             raise SceneError("the Chebyshev route needs a diagonal, positive mass matrix")
         self.data = data
         self.a, self.b = float(a), float(b)
+        (self._a_work, a_err), (self._b_work, b_err) = _work_number(a), _work_number(b)
+        self._ab_error = max(a_err, b_err)  # relative
+        #: whether the float64 M and K are the scene's exact entries (else each is off by
+        #: up to u relatively, and the operator with them)
+        self.exact_data = exact_data
         self._last: tuple[Any, tuple[np.ndarray, np.ndarray]] | None = None
         self._vectors: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
 
@@ -277,8 +300,14 @@ class ChebyshevMotion:
         alpha = (2 / rad) * float(np.max(np.asarray(absK @ (1 / root)).ravel() / root,
                                          initial=0.0)) * (1 + 16 * _EPS * (width + 2))
         gamma = 1.01 * (width + 10) * _U
+        # the working-precision operator 2B = P − s: each entry K_ij·(2/rad)/m_i within 3
+        # roundings of the working precision of the one from the float64 data
+        two_over = _WORK(2) / _WORK(rad)
+        P_work = K.astype(_WORK).multiply((two_over / m.astype(_WORK))[:, None]).tocsr()
+        s_work = _WORK(2) * _WORK(mid) / _WORK(rad)
         return {"P": P, "s": s, "mid": mid, "rad": rad, "lo": mid - rad, "alpha": alpha,
-                "gamma": gamma, "root": root}
+                "gamma": gamma, "root": root, "P_work": P_work, "s_work": s_work,
+                "absP": abs(P) * (1 + 8 * _EPS), "row_nnz": np.diff(K.indptr)}
 
     @cached_property
     def _ellipses(self) -> _Ellipses:
@@ -387,34 +416,60 @@ class ChebyshevMotion:
 
     # -- the Chebyshev vectors -------------------------------------------------------------
     def _recurrence(self, N: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """T_k(B)[x0 v0] for k ≤ N (n x (N+1) x columns), their M-norms and the bounds E_k
-        on their errors (both (N+1) x columns)."""
+        """T_k(B)[x0 v0] for k ≤ N, run in the working precision and kept in float64
+        (columns x n x (N+1)), the largest |entry| of each (columns x (N+1)) and the bounds
+        E_k on the M-norm of the working-precision vectors' errors (columns x (N+1))."""
         if self._vectors is not None and self._vectors[0] >= N:
-            _, V, norms, errors = self._vectors
-            return V[:, : N + 1], norms[: N + 1], errors[: N + 1]
+            _, V, vinf, errors = self._vectors
+            return V[:, :, : N + 1], vinf[:, : N + 1], errors[:, : N + 1]
         op = self._operator
-        P, s = op["P"], op["s"]
+        P, s = op["P_work"], op["s_work"]
         starts = [self.data.x0] + ([self.data.v0] if np.any(self.data.v0) else [])
         cols = len(starts)
-        V = np.empty((self.n, N + 1, cols))
-        V[:, 0, :] = np.stack(starts, axis=1)
+        V = np.empty((cols, self.n, N + 1))
+        previous = np.stack(starts, axis=1).astype(_WORK)
+        V[:, :, 0] = previous.T
         if N >= 1:
-            V[:, 1, :] = 0.5 * (P @ V[:, 0, :] - s * V[:, 0, :])
-        for k in range(1, N):
-            current = V[:, k, :]
-            V[:, k + 1, :] = P @ current
-            V[:, k + 1, :] -= s * current
-            V[:, k + 1, :] -= V[:, k - 1, :]
-        norms = np.sqrt(np.einsum("i,ikc,ikc->kc", self.data.mass, V, V)) * (1 + (self.n + 4) * _EPS)
-        previous = np.vstack([np.zeros((1, cols)), norms[:-1]])
-        delta = op["gamma"] * ((op["alpha"] + abs(s)) * norms + previous)   # δ_j, j = 0..N
-        steps = np.arange(N + 1)[:, None]
+            current = 0.5 * (P @ previous - s * previous)
+            V[:, :, 1] = current.T
+            for k in range(1, N):
+                following = P @ current
+                following -= s * current
+                following -= previous
+                previous, current = current, following
+                V[:, :, k + 1] = current.T
+        errors = self._recurrence_errors(V)
+        vinf = np.max(np.abs(V), axis=1) if self.n else np.zeros((cols, N + 1))
+        if V.size <= _KEEP:
+            self._vectors = (N, V, vinf, errors)
+        return V, vinf, errors
+
+    def _recurrence_errors(self, V: np.ndarray) -> np.ndarray:
+        """E_k ≥ ‖v_k − T_k(B)x0‖_M for the working-precision vectors v_k (their float64
+        roundings V within a relative u): step j, v_{j+1} = (P − s)v_j − v_{j−1}, commits
+        |δ_j| ≤ g_i(|P||v_j| + |s||v_j| + |v_{j−1}|) per entry (g_i = γ_{w_i+6} of the
+        working precision, w_i the nonzeros of the row: the sparse product, two updates and
+        the rounding of P and s), plus 2.01u|P||v_j| when the float64 M and K are not exact;
+        it reaches v_k as U_{k−1−j}(B)δ_j, ‖U_m(B)‖_M ≤ m + 1: E_k = Σ_{j<k} (k − j)‖δ_j‖_M."""
+        op = self._operator
+        cols, n, width = V.shape
+        absV = np.abs(V)
+        flat = absV.transpose(1, 0, 2).reshape(n, cols * width)
+        A = np.asarray(op["absP"] @ flat).reshape(n, cols, width).transpose(1, 0, 2)
+        g = (1.01 * _UW * (op["row_nnz"] + 6))[None, :, None]
+        local = g * (A + abs(float(op["s_work"])) * absV)
+        local[:, :, 1:] += g * absV[:, :, :-1]
+        if not self.exact_data:
+            local += 2.01 * _U * A
+        # float64 evaluation of the bound, and |v_j| ≤ (1 + u)|V_j|
+        inflate = (1 + 4 * (int(np.max(op["row_nnz"], initial=0)) + 8) * _EPS) * (1 + (n + 4) * _EPS)
+        delta = np.sqrt(np.einsum("i,cik,cik->ck", self.data.mass, local, local)).T * inflate
+        if not self.exact_data:  # the M-norm of the exact masses
+            delta *= 1 + 2 * _U
+        steps = np.arange(width)[:, None]
         S0 = np.vstack([np.zeros((1, cols)), np.cumsum(delta, axis=0)[:-1]])
         S1 = np.vstack([np.zeros((1, cols)), np.cumsum(steps * delta, axis=0)[:-1]])
-        errors = (steps * S0 - S1) * (1 + 1e-12)   # E_k = Σ_{j<k} (k − j) δ_j
-        if V.size <= _KEEP:
-            self._vectors = (N, V, norms, errors)
-        return V, norms, errors
+        return ((steps * S0 - S1) * (1 + 1e-12)).T   # E_k = Σ_{j<k} (k − j) δ_j
 
     # -- values and bounds ----------------------------------------------------------------
     def _degrees(self, t: np.ndarray, order: int) -> np.ndarray:
@@ -427,31 +482,39 @@ class ChebyshevMotion:
         return (16 * np.ceil(np.maximum(need, 1) / 16)).astype(np.int64)
 
     def _nodes(self, N: int) -> tuple[np.ndarray, np.ndarray]:
+        """The Chebyshev points λ_j = lo + 2 rad cos²(jπ/2N) in the working precision and
+        bounds on their errors (the argument within 3 roundings of π/2, cos within one)."""
         op = self._operator
-        half = np.cos(np.arange(N + 1) * math.pi / (2 * N)) ** 2    # (1 + x_j)/2
-        lam = op["lo"] + 2 * op["rad"] * half
-        error = 8 * _U * (np.abs(lam) + abs(op["lo"]))
+        pi = 4 * np.arctan(_WORK(1))
+        cos = np.cos(np.arange(N + 1).astype(_WORK) * (pi / _WORK(2 * N)))
+        lam = _WORK(op["lo"]) + _WORK(2 * op["rad"]) * (cos * cos)
+        c = np.abs(cos).astype(float)
+        error = 1.01 * _UW * (2 * op["rad"] * (10 * c + 5 * c * c)
+                              + 2 * (np.abs(lam).astype(float) + abs(op["lo"])))
         return lam, error
 
     def _functions(self, lam: np.ndarray, dlam: np.ndarray, t: np.ndarray,
                    order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """F_t^(order), G_t^(order) at the nodes (nodes x times) and bounds on their errors."""
-        a, b = self.a, self.b
+        """F_t^(order), G_t^(order) at the nodes (nodes x times, working precision) and
+        bounds on their errors (float64)."""
+        a, b = self._a_work, self._b_work
         c = a * lam + b
+        t = t.astype(_WORK)
         Cf, Sf, envC, envS, h, speed = _scalar_parts(lam, c, t)
         tt = t[None, :]
         alam = np.abs(lam)[:, None]
         ac = np.abs(c)[:, None]
         beta = np.sqrt(np.maximum(-lam, 0.0))
         mu0 = _mu(beta, c)[:, None]
+        unit = _UW
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             E = np.exp(mu0 * tt)
             m = np.minimum(tt, 1 / np.sqrt(alam))
             bG = E * m                                          # |G| (|F| ≤ E)
             F = Cf + h[:, None] * Sf
             G = Sf
-            rel = (16 + 6 * speed[:, None] * tt) * _U
-            dc = 3 * _U * (a * alam + b)                        # rounding of c(λ)
+            rel = (16 + 6 * speed[:, None] * tt) * unit
+            dc = (3 * unit + self._ab_error) * (a * alam + b)   # rounding of c(λ)
             dl = dlam[:, None]
             dF = E * tt * m * (1 + a * np.sqrt(alam))           # ∂F/∂λ (total, through c)
             dG = E * tt * m * (m + a)
@@ -463,18 +526,20 @@ class ChebyshevMotion:
             errs = {"F": [eF], "G": [eG]}
             if order >= 1:
                 vals["F"].append(-lamc * G)
-                errs["F"].append(alam * eG + dl * bG + 2 * _U * np.abs(vals["F"][1]))
+                errs["F"].append(alam * eG + dl * bG + 2 * unit * np.abs(vals["F"][1]))
                 vals["G"].append(F - cc * G)
                 errs["G"].append(eF + ac * eG + (dc + a * dl) * bG
-                                 + 3 * _U * (np.abs(F) + np.abs(cc * G)))
+                                 + 3 * unit * (np.abs(F) + np.abs(cc * G)))
             for k in range(2, order + 1):
                 for key in ("F", "G"):
                     v, e = vals[key], errs[key]
                     v.append(-cc * v[k - 1] - lamc * v[k - 2])
                     e.append(ac * e[k - 1] + alam * e[k - 2] + (dc + a * dl) * np.abs(v[k - 1])
-                             + dl * np.abs(v[k - 2]) + 3 * _U * (np.abs(cc * v[k - 1])
-                                                               + np.abs(lamc * v[k - 2])))
-        return vals["F"][order], vals["G"][order], errs["F"][order], errs["G"][order]
+                             + dl * np.abs(v[k - 2]) + 3 * unit * (np.abs(cc * v[k - 1])
+                                                                 + np.abs(lamc * v[k - 2])))
+            eF_out = errs["F"][order].astype(float) * (1 + 1e-9)
+            eG_out = errs["G"][order].astype(float) * (1 + 1e-9)
+        return vals["F"][order], vals["G"][order], eF_out, eG_out
 
     def _compute(self, t: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
         key = (t.tobytes(), order)
@@ -482,7 +547,8 @@ class ChebyshevMotion:
             return self._last[1]
         n = self.n
         values = np.zeros((n, len(t)))
-        errors = np.zeros(len(t))
+        errors = np.zeros(len(t))       # in the M-norm
+        uniform = np.zeros(len(t))      # the same for every entry
         if len(t):
             degrees = self._degrees(t, order)
             top = int(np.max(degrees))
@@ -493,48 +559,64 @@ class ChebyshevMotion:
                     f"vectors of {self.n:,} entries to reach t = {float(np.max(t)):g}, more than "
                     f"MAX_VECTOR_FLOATS = {MAX_VECTOR_FLOATS:,} floats; evaluate shorter times "
                     "(the degree grows like t·√‖M⁻¹K‖)")
-            V, norms, vec_err = self._recurrence(top)
+            V, vinf, vec_err = self._recurrence(top)
             for N in (int(value) for value in np.unique(degrees)):
                 lam, dlam = self._nodes(N)
                 where = np.flatnonzero(degrees == N)
                 chunk = max(1, _CHUNK // (N + 1))
                 for start in range(0, len(where), chunk):
                     part = where[start:start + chunk]
-                    v, e = self._chunk(t[part], order, N, V[:, : N + 1], norms[: N + 1],
-                                       vec_err[: N + 1], lam, dlam)
+                    v, e, w = self._chunk(t[part], order, N, V[:, :, : N + 1], vinf[:, : N + 1],
+                                          vec_err[:, : N + 1], lam, dlam)
                     values[:, part] = v
                     errors[part] = e
-        bounds = np.outer(1 / self._operator["root"], errors) * (1 + 8 * _EPS)
+                    uniform[part] = w
+        bounds = (np.outer(1 / self._operator["root"], errors) + uniform[None, :]) * (1 + 8 * _EPS)
+        bounds = np.where(np.isfinite(bounds), bounds, np.inf)
         self._last = (key, (values, bounds))
         return values, bounds
 
-    def _chunk(self, t: np.ndarray, order: int, N: int, V: np.ndarray, norms: np.ndarray,
-               vec_err: np.ndarray, lam: np.ndarray, dlam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _chunk(self, t: np.ndarray, order: int, N: int, V: np.ndarray, vinf: np.ndarray,
+               vec_err: np.ndarray, lam: np.ndarray,
+               dlam: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Values at the times, the M-norm part of their error bound and the part that is
+        the same for every entry (the float64 product Σ_k c_k V_k)."""
         fft = _scipy().fft
         F, G, eF, eG = self._functions(lam, dlam, t, order)
         lebesgue = 2 / math.pi * math.log(N + 1) + 1
-        dct_factor = math.sqrt(N + 1) * 16 * (math.log2(2 * N) + 2) * _U
-        gamma_sum = 1.01 * (N + 3) * _U
+        dct_factor = math.sqrt(N + 1) * 16 * (math.log2(2 * N) + 2) * _UW
         ell = self._ellipses
         values = np.zeros((self.n, len(t)))
         total = np.zeros(len(t))
+        products = np.zeros(len(t))     # Σ_k |c_k| max_i |V_ik|
+        block = max(1, math.isqrt(N) + 1)
+        blocks = 0
         for column, (f, ef, kind, norm) in enumerate(((F, eF, "F", self._norms[0]),
                                                       (G, eG, "G", self._norms[1]))):
-            if column >= V.shape[2]:
+            if column >= V.shape[0]:
                 break
-            coef = fft.dct(f, type=1, axis=0) / N
-            coef[0] /= 2
-            coef[-1] /= 2
-            values += V[:, :, column] @ coef
+            coef_work = fft.dct(f, type=1, axis=0) / N
+            coef_work[0] /= 2
+            coef_work[-1] /= 2
+            coef = coef_work.astype(float)
+            for start in range(0, N + 1, block):  # blocks of √N terms: error γ_{√N} + γ_{blocks}
+                values += V[column][:, start:start + block] @ coef[start:start + block]
+                blocks += 1
             acoef = np.abs(coef)
             with np.errstate(over="ignore", invalid="ignore"):
                 trunc = ell.truncation(kind, order, t, N)
                 nodal = lebesgue * np.max(ef, axis=0)
-                dct = dct_factor * np.sqrt(np.sum(coef * coef, axis=0))
-                size = np.max(np.abs(f), axis=0) + trunc + nodal + dct   # ≥ max |p̂_N|
+                dct = dct_factor * np.sqrt(np.sum(acoef * acoef, axis=0))
+                size = np.max(np.abs(f), axis=0).astype(float) + trunc + nodal + dct  # ≥ max |p̂_N|
                 total += (trunc + nodal + dct + 2 * _U * size) * norm
-                total += acoef.T @ vec_err[:, column] + gamma_sum * (acoef.T @ norms[:, column])
-        return values, np.where(np.isfinite(total), total, np.inf)
+                total += acoef.T @ vec_err[column]
+                products += acoef.T @ vinf[column]
+        # the product in blocks (γ_block + γ_blocks), the rounding of the coefficients and of
+        # the vectors to float64 (u each), relative to Σ_k |c_k||V_ik|
+        factor = 1.01 * (block + blocks + 2) * _U
+        uniform = factor * products * (1 + 1e-9)
+        return (values, np.where(np.isfinite(total), total, np.inf),
+                np.where(np.isfinite(uniform), uniform, np.inf))
 
     def values(self, times: np.ndarray, order: int = 0) -> np.ndarray:
         """d^order x/dt^order at the times, float64, shape (n, len(times))."""
@@ -560,4 +642,13 @@ def chebyshev_motion(scene: Scene) -> ChebyshevMotion:
     if coefficients is None:
         raise SceneError("the Chebyshev route needs Rayleigh damping C = aK + bM (a, b ≥ 0) "
                          "and a diagonal, positive M")
-    return ChebyshevMotion(symmetric_scene(scene, damping=coefficients), *coefficients)
+    exact = all(_is_double(value) for name in ("M", "K")
+                for value in (rational_entries(scene, name) or {}).values())
+    return ChebyshevMotion(symmetric_scene(scene, damping=coefficients), *coefficients,
+                           exact_data=exact)
+
+
+def _is_double(value: Any) -> bool:
+    """Whether a rational (flint fmpq) is exactly a float64 (dyadic, 53 bits, in range)."""
+    p, q = int(value.p), int(value.q)
+    return q & (q - 1) == 0 and abs(p) < 2**53 and q < 2**1000

@@ -45,7 +45,6 @@ from typing import Any
 
 import mpmath
 import numpy as np
-import scipy.linalg
 import sympy as sp
 
 from ..model.errors import SceneError
@@ -107,6 +106,8 @@ def _expm_error(tau: np.ndarray, size: np.ndarray, absPhi: np.ndarray, sup: np.n
 
 
 def _expm_batch(A: np.ndarray, taus: np.ndarray) -> np.ndarray:
+    import scipy.linalg  # a core dependency, imported where used (it takes 0.2 s)
+
     return scipy.linalg.expm(A[None, :, :] * np.asarray(taus, dtype=float)[:, None, None])
 
 

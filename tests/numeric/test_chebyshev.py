@@ -176,3 +176,17 @@ def test_free_free_chain_with_rigid_motion_matches_the_reference():
     values, bounds = motion.values(np.array(times)), motion.bound(np.array(times))
     assert np.all(np.abs(values - reference) <= bounds)
     assert np.max(np.abs(values - reference)) < 1e-12 * np.abs(reference).max()
+
+
+def test_verify_runs_on_a_scene_beyond_the_dense_size_limit_and_catches_a_wrong_motion():
+    """verify() takes its products over the scene's nonzero entries: a 2,000-mass chain
+    (twice NUMERIC_MAX_COORDINATES, where dense float arrays are refused) verifies; the same
+    motion checked against a chain with stiffer springs does not."""
+    scene = chain(2 * policy.NUMERIC_MAX_COORDINATES)
+    sol = ls.solve(scene)
+    assert sol.verify()
+    stiffer = chain(2 * policy.NUMERIC_MAX_COORDINATES, k=2)
+    wrong = type(sol).__new__(type(sol))
+    wrong.__dict__.update(sol.__dict__)
+    wrong.scene = stiffer  # the motion of the first chain is not one of the stiffer chain
+    assert not wrong.verify()
