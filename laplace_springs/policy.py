@@ -96,13 +96,17 @@ CLASSICAL_MAX_COORDINATES = SHAPES_MAX_COORDINATES
 #: "auto" solves Rayleigh-damped scenes (C = aK + bM exactly, a, b ≥ 0, diagonal positive
 #: M) from this many coordinates by Chebyshev expansion in M⁻¹K
 #: (:mod:`laplace_springs.numeric.chebyshev`: sparse products, no eigenvectors) instead of
-#: the symmetric eigenproblem. Measured with ``solve(scene).evaluate(times)``, 1,000 times
-#: on [0, 50], one core (benchmarks/bench_scaling.py scenes): Rayleigh chains 100 masses
-#: 9 ms against 8 ms (eigen route), 200: 10 ms against 14 ms, 400: 15 ms against 36 ms,
-#: 1,000: 37 ms against 124 ms (hand-written tridiagonal modal route); random meshes 100:
-#: 16 against 8 ms, 200: 19 against 18 ms, 400: 28 against 51 ms. Its error bound is the
-#: tighter of the two (2e-11 against 1e-9 of max |x| at t = 50 on the 100-mass chain).
-CHEBYSHEV_MIN_COORDINATES = 200
+#: the symmetric eigenproblem, because its own error bound meets the target where the eigen
+#: route's does not. Measured with ``solve(scene).evaluate(times, return_error=True)``,
+#: 1,000 times on [0, 50], one core (benchmarks/bench_scaling.py scenes), bound relative to
+#: max |x|: Rayleigh chains of 20, 40, 64, 100 masses: Chebyshev 13–15 ms, bound 1.8e-14;
+#: eigen route 6–9 ms but bound 8.5e-14 at 20, then escalated to the certified route
+#: (0.4 s at 20, 0.9 s at 40) or, beyond its size, returned with bounds of 4.7e-10 (64) and
+#: 1.2e-9 (100). Random meshes: Chebyshev 27–31 ms with bounds ≤ 4.4e-14, eigen route
+#: 8–14 ms with 3.9e-9 to 5.4e-9 (or certified, 0.15–1.7 s). From 1,000 masses the
+#: Chebyshev route is also the faster (chain: 0.05 s against 0.12 s for the hand-written
+#: tridiagonal modal route).
+CHEBYSHEV_MIN_COORDINATES = 16
 #: Largest scene the Chebyshev route takes (the scene files' limit): it holds n x (N+1)
 #: vectors, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen (8 MB at 10,000 masses and N = 100).
 CHEBYSHEV_MAX_COORDINATES = 100_000

@@ -33,19 +33,33 @@ most the sum, for (f, w) = (F_t, x0) and (G_t, v0), of
   |G| ≤ t e^{μt}, |F'| ≤ √|λ| e^{μt}, |G'| ≤ e^{μt}, and higher derivatives by
   q'' = −c q' − λ q. μ is bounded on E_r by covering it with boxes (β is largest at a
   box's corner of least real part and largest imaginary part);
-* the values of f at the nodes: evaluation rounding (phases and rates times t), the
-  rounding of the nodes and of a, b (through bounds on ∂f/∂λ, ∂f/∂c from the same
+* the values of f at the nodes: the nodes, c(λ) and the phases (in turns, reduced modulo
+  1) are computed in the working precision (the x87 long double, unit roundoff
+  u_w = 2^-64, where numpy has it; else float64), the exponents and the cos, sin and exp
+  in float64 (an exponent's rounding costs u per unit of it, a phase's would cost u per
+  radian), so the rounding is (16 + 10(|√δ| + h)t) u_w + (24 + 2·rate·t) u of the
+  envelope, plus the rounding of the nodes and of a, b (through bounds on ∂f/∂λ, ∂f/∂c from the same
   estimate), mapped to the interpolant by the Lebesgue constant Λ_N ≤ (2/π) log(N+1) + 1;
-* the DCT's rounding (the FFT model of Higham, *Accuracy and Stability*, Thm 24.2, with
-  a factor 2.5 to spare): Σ_k |Δc_k| ≤ √(N+1)·16 (log₂ 2N + 2) u ‖ĉ‖₂;
-* the recurrence: step j commits δ_j with ‖δ_j‖_M ≤ γ((α + |s|)‖v̂_j‖_M + ‖v̂_{j−1}‖_M)
-  (α ≥ ‖|M^{1/2}PM^{−1/2}|‖₂ the operator's absolute row sums), which reaches v̂_k as
-  U_{k−1−j}(B)δ_j: ‖v̂_k − T_k(B)x0‖_M ≤ E_k = Σ_{j<k} (k − j)‖δ_j‖_M, weighted by |ĉ_k|;
-* the final product (γ_{N+1} Σ|ĉ_k| ‖v̂_k‖_M) and the rounding of x0, v0 to float64.
+* the DCT's rounding, in the working precision (the FFT model of Higham, *Accuracy and
+  Stability*, Thm 24.2, with a factor 2.5 to spare): Σ_k |Δc_k| ≤ √(N+1)·16 (log₂ 2N + 2)
+  u_w ‖ĉ‖₂;
+* the recurrence, run in the working precision with P and s rounded from the float64
+  data: step j commits δ_j with |δ_j| ≤ γ_{w+5}|P||v_j| + γ_5|s||v_j| + γ_1|v_{j−1}|
+  per entry (w the nonzeros of the row; plus 2.01u|P||v_j| when the float64 M or K are
+  not the scene's exact entries), which reaches v_k as U_{k−1−j}(B)δ_j; the error of the
+  value is Σ_j b_{j+1}(B)δ_j with b_j = Σ_{k≥j} ĉ_k U_{k−j}, and ‖b_j(B)‖_M ≤ S_j, the
+  sum of the absolute T-coefficients of b_j (|R_j| + 2Σ_{l>j}|R_l|, R_l = ĉ_l + ĉ_{l+2} + ...,
+  within a few per cent of max |b_j|, where Σ_{k≥j}|ĉ_k|(k − j + 1) from ‖U_m‖ ≤ m + 1 is 2
+  to 10 times larger);
+* the final product Σ_k ĉ_k V_k in float64, in 6 blocks of L = ⌈(N+1)/6⌉ terms
+  (γ_L + γ_{blocks}), with the rounding of the coefficients and of the vectors to float64:
+  (L + blocks + 2)u Σ_k |ĉ_k| max_i |V_ik|, the same for every entry; and the rounding of
+  x0, v0 to float64.
 
-The recurrence term grows like N³ u: at t_max √hi ≈ 100 it is about 1e-11 of ‖x0‖_M
-(the actual rounding is far smaller: errors of 1e-15 to 1e-14 are typical), so this
-route's bound is honest but pessimistic at long times, like the eigen route's.
+With the working precision the recurrence's rounding, N² u_w, is far below u: the bound
+is about 1e-14 to 6e-14 of ‖x0‖ at t_max √hi ≈ 100 to 500 (chains and random meshes with
+Rayleigh damping, 1,000 to 10,000 masses), a few times the actual error. Without it
+(float64 only) the bound is honest but about a thousand times larger.
 """
 
 from __future__ import annotations
@@ -64,7 +78,6 @@ from .classical import (
     ClassicalMotion,
     ModalForm,
     SymmetricScene,
-    _scalar_parts,
     _scipy,
     mode_poles,
     symmetric_scene,
@@ -89,6 +102,9 @@ _UW = float(np.finfo(_WORK).eps) / 2
 _RADII = 1 + np.geomspace(1e-4, 8.0, 40)
 #: Boxes covering the upper half of each ellipse.
 _BOXES = 96
+#: The final product Σ_k c_k V_k is summed in this many blocks (its rounding bound is
+#: γ_{(N+1)/blocks} + γ_{blocks} instead of γ_{N+1}).
+_PRODUCT_BLOCKS = 6
 #: Largest number of (node, time) pairs held at once; more times are done in chunks.
 _CHUNK = 2_000_000
 #: Largest number of floats of Chebyshev vectors kept between calls.
@@ -155,10 +171,11 @@ def _work_number(value: Any) -> tuple[Any, float]:
     else it goes through float64."""
     if isinstance(value, float):
         return _WORK(value), 0.0
-    p, q = getattr(value, "p", None), getattr(value, "q", None)
+    p: Any = getattr(value, "p", None)
+    q: Any = getattr(value, "q", None)
     if p is None:
         p, q = getattr(value, "numerator", None), getattr(value, "denominator", None)
-    if p is not None and abs(int(p)) < 2**63 and 0 < int(q) < 2**63:
+    if p is not None and q is not None and abs(int(p)) < 2**63 and 0 < int(q) < 2**63:
         return _WORK(int(p)) / _WORK(int(q)), _UW
     return _WORK(float(value)), _U + _UW
 
@@ -245,6 +262,27 @@ class _Ellipses:
 
 
 # ----------------------------------------------------------------------------- the motion
+
+
+def _tails(coef: np.ndarray, acoef: np.ndarray) -> np.ndarray:
+    """S_j ≥ max_{[−1,1]} |b_j|, b_j = Σ_{k≥j} c_k U_{k−j} (rows j = 0..N, columns the
+    times): U_m = 2 Σ T_i over 0 ≤ i ≤ m, i ≡ m (mod 2), with half weight on T_0, so the
+    T-coefficients of b_j are R_j, 2R_{j+1}, 2R_{j+2}, ... with R_l = c_l + c_{l+2} + ...,
+    and S_j = |R_j| + 2 Σ_{l>j} |R_l| (their sum of absolute values; this is within a few
+    per cent of the maximum for the oscillating coefficients here, where the bound
+    Σ_{k≥j} |c_k|(k − j + 1) from |U_m| ≤ m + 1 is 2 to 10 times larger). The rounding of
+    the sums is covered by γ_{N+2} (each R_l within γ_{N+2} Σ_k |c_k|)."""
+    N = coef.shape[0] - 1
+    even = -(-(N + 1) // 2) * 2
+    padded = np.zeros((even,) + coef.shape[1:])
+    padded[: N + 1] = coef
+    pairs = padded.reshape((even // 2, 2) + coef.shape[1:])    # rows (c_2i, c_2i+1)
+    R = np.cumsum(pairs[::-1], axis=0)[::-1].reshape(padded.shape)[: N + 1]
+    gamma = 1.01 * (N + 4) * _U
+    aR = np.abs(R) + gamma * np.sum(acoef, axis=0)
+    after = np.zeros_like(aR)                        # Σ_{l>j} |R_l|
+    after[:-1] = np.cumsum(aR[:0:-1], axis=0)[::-1]
+    return (aR + 2 * after) * (1 + gamma)
 
 
 class ChebyshevMotion:
@@ -418,7 +456,7 @@ class ChebyshevMotion:
     def _recurrence(self, N: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """T_k(B)[x0 v0] for k ≤ N, run in the working precision and kept in float64
         (columns x n x (N+1)), the largest |entry| of each (columns x (N+1)) and the bounds
-        E_k on the M-norm of the working-precision vectors' errors (columns x (N+1))."""
+        D_j on the M-norm of the rounding committed by step j (columns x (N+1), D_N = 0)."""
         if self._vectors is not None and self._vectors[0] >= N:
             _, V, vinf, errors = self._vectors
             return V[:, :, : N + 1], vinf[:, : N + 1], errors[:, : N + 1]
@@ -445,31 +483,39 @@ class ChebyshevMotion:
         return V, vinf, errors
 
     def _recurrence_errors(self, V: np.ndarray) -> np.ndarray:
-        """E_k ≥ ‖v_k − T_k(B)x0‖_M for the working-precision vectors v_k (their float64
-        roundings V within a relative u): step j, v_{j+1} = (P − s)v_j − v_{j−1}, commits
-        |δ_j| ≤ g_i(|P||v_j| + |s||v_j| + |v_{j−1}|) per entry (g_i = γ_{w_i+6} of the
-        working precision, w_i the nonzeros of the row: the sparse product, two updates and
-        the rounding of P and s), plus 2.01u|P||v_j| when the float64 M and K are not exact;
-        it reaches v_k as U_{k−1−j}(B)δ_j, ‖U_m(B)‖_M ≤ m + 1: E_k = Σ_{j<k} (k − j)‖δ_j‖_M."""
+        """D_j ≥ ‖δ_j‖_M for the working-precision vectors v_k (their float64 roundings V
+        within a relative u): step j, v_{j+1} = (P − s)v_j − v_{j−1}, commits
+        per entry, with y = fl(P v_j) (γ_w|P||v_j|, w the nonzeros of the row),
+        fl(fl(y − fl(s v_j)) − v_{j−1}) and P, s within 3 and 2 roundings,
+
+            |δ_j| ≤ γ_{w+5}|P||v_j| + γ_5|s||v_j| + γ_1|v_{j−1}|
+
+        (γ of the working precision), plus 2.01u|P||v_j| when the float64 M and K are not
+        exact. It reaches v_k as U_{k−1−j}(B)δ_j (see :meth:`_chunk` for the sum over k)."""
         op = self._operator
         cols, n, width = V.shape
-        absV = np.abs(V)
-        flat = absV.transpose(1, 0, 2).reshape(n, cols * width)
-        A = np.asarray(op["absP"] @ flat).reshape(n, cols, width).transpose(1, 0, 2)
-        g = (1.01 * _UW * (op["row_nnz"] + 6))[None, :, None]
-        local = g * (A + abs(float(op["s_work"])) * absV)
-        local[:, :, 1:] += g * absV[:, :, :-1]
+        mass = self.data.mass
+        # ‖g∘(|P||v_j|)‖_M + 5.05u|s|‖v_j‖_M + 1.01u‖v_{j−1}‖_M (the triangle inequality),
+        # 64 vectors at a time
+        g = 1.01 * _UW * (op["row_nnz"] + 5)
         if not self.exact_data:
-            local += 2.01 * _U * A
+            g = g * (1 + 2.01 * _U / (1.01 * _UW * 6))
+        scaled = np.empty((width, cols))
+        for column in range(cols):
+            for start in range(0, width, 64):
+                A = np.asarray(op["absP"] @ np.abs(V[column, :, start:start + 64]))
+                A *= g[:, None]
+                scaled[start:start + 64, column] = np.sqrt(np.einsum("i,ik,ik->k", mass, A, A))
+        norms = np.sqrt(np.einsum("i,cik,cik->kc", mass, V, V))
+        delta = scaled + (5.05 * _UW * abs(float(op["s_work"]))) * norms
+        delta[1:] += 1.01 * _UW * norms[:-1]
         # float64 evaluation of the bound, and |v_j| ≤ (1 + u)|V_j|
         inflate = (1 + 4 * (int(np.max(op["row_nnz"], initial=0)) + 8) * _EPS) * (1 + (n + 4) * _EPS)
-        delta = np.sqrt(np.einsum("i,cik,cik->ck", self.data.mass, local, local)).T * inflate
+        delta *= inflate
         if not self.exact_data:  # the M-norm of the exact masses
             delta *= 1 + 2 * _U
-        steps = np.arange(width)[:, None]
-        S0 = np.vstack([np.zeros((1, cols)), np.cumsum(delta, axis=0)[:-1]])
-        S1 = np.vstack([np.zeros((1, cols)), np.cumsum(steps * delta, axis=0)[:-1]])
-        return ((steps * S0 - S1) * (1 + 1e-12)).T   # E_k = Σ_{j<k} (k − j) δ_j
+        delta[-1] = 0.0  # no step from the last vector
+        return delta.T
 
     # -- values and bounds ----------------------------------------------------------------
     def _degrees(self, t: np.ndarray, order: int) -> np.ndarray:
@@ -493,53 +539,102 @@ class ChebyshevMotion:
                               + 2 * (np.abs(lam).astype(float) + abs(op["lo"])))
         return lam, error
 
+    def _scalar_parts(self, lam: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        """e^{−ht}C(t), e^{−ht}S(t) at the nodes and times (float64), their envelopes, h, the
+        phase speed |√δ| + h and the rate of the exponentials (h, or h + g overdamped), with
+        c(λ), h, δ and the phases (in turns, reduced modulo 1) in the working precision, the
+        exponents, cos, sin and exp in float64 (an exponent's rounding is u per unit of it;
+        see :func:`~laplace_springs.numeric.classical._scalar_parts` for the forms)."""
+        c = self._a_work * lam + self._b_work
+        h = c / 2
+        omega = np.sqrt(np.maximum(lam, 0))
+        delta = np.where(lam >= 0, (omega - h) * (omega + h), lam - h * h)
+        under = delta > 0
+        root = np.sqrt(np.abs(delta))
+        tw = t.astype(_WORK)[None, :]
+        tt = t[None, :]
+        two_pi = 8 * np.arctan(_WORK(1))
+        shape = (len(lam), len(t))
+        Cf, Sf, envC, envS = (np.empty(shape) for _ in range(4))
+        speed = (root + np.abs(h)).astype(float)
+        rate = np.empty(len(lam))
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+            if under.any():
+                d = root[under][:, None]
+                turns = (d / two_pi) * tw
+                turns -= np.rint(turns)
+                reduced = turns.astype(float) * (2 * math.pi)
+                decay = np.exp(-h[under][:, None].astype(float) * tt)
+                d64 = d.astype(float)
+                Cf[under] = decay * np.cos(reduced)
+                Sf[under] = decay * np.sin(reduced) / d64
+                envC[under] = decay
+                envS[under] = decay * np.minimum(t[None, :], 1 / d64)
+                rate[under] = np.abs(h[under]).astype(float)
+            over = ~under
+            if over.any():
+                g = root[over][:, None]
+                hh = h[over][:, None]
+                slow = np.where(hh + g > 0, lam[over][:, None] / (hh + g), 0)
+                P = np.exp(-slow.astype(float) * tt)
+                Q = np.exp(-(hh + g).astype(float) * tt)
+                g64 = g.astype(float)
+                factor = np.where(g64 > 0, -np.expm1(-2 * g64 * tt)
+                                  / (2 * np.where(g64 > 0, g64, 1.0)), t[None, :])
+                Cf[over] = (P + Q) / 2
+                Sf[over] = P * factor
+                envC[over] = Cf[over]
+                envS[over] = Sf[over]
+                rate[over] = np.abs(hh + g)[:, 0].astype(float)
+        return Cf, Sf, envC, envS, h, c, speed, rate
+
     def _functions(self, lam: np.ndarray, dlam: np.ndarray, t: np.ndarray,
                    order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """F_t^(order), G_t^(order) at the nodes (nodes x times, working precision) and
-        bounds on their errors (float64)."""
-        a, b = self._a_work, self._b_work
-        c = a * lam + b
-        t = t.astype(_WORK)
-        Cf, Sf, envC, envS, h, speed = _scalar_parts(lam, c, t)
+        """F_t^(order), G_t^(order) at the nodes (nodes x times, float64) and bounds on their
+        errors: the rounding of the working-precision phases and exponents (rates times t
+        in units of its roundoff), of their float64 cos, sin, exp (a few u, and u per unit of
+        exponent), of the nodes and of c(λ) (through ∂F/∂λ, ∂F/∂c)."""
+        Cf, Sf, envC, envS, h_work, c_work, speed, rate = self._scalar_parts(lam, t)
+        a = float(self._a_work)
+        lam64, h, c = lam.astype(float), h_work.astype(float), c_work.astype(float)
         tt = t[None, :]
-        alam = np.abs(lam)[:, None]
+        alam = np.abs(lam64)[:, None]
         ac = np.abs(c)[:, None]
-        beta = np.sqrt(np.maximum(-lam, 0.0))
+        beta = np.sqrt(np.maximum(-lam64, 0.0))
         mu0 = _mu(beta, c)[:, None]
-        unit = _UW
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            E = np.exp(mu0 * tt)
+            E = np.exp(mu0 * tt) * (1 + 4 * _U)
             m = np.minimum(tt, 1 / np.sqrt(alam))
             bG = E * m                                          # |G| (|F| ≤ E)
             F = Cf + h[:, None] * Sf
             G = Sf
-            rel = (16 + 6 * speed[:, None] * tt) * unit
-            dc = (3 * unit + self._ab_error) * (a * alam + b)   # rounding of c(λ)
+            rel = (16 + 10 * speed[:, None] * tt) * _UW + (24 + 2 * rate[:, None] * tt) * _U
+            dc = ((3 * _UW + self._ab_error) * (a * alam + float(self._b_work))
+                  * (1 + 4 * _U))                               # rounding of c(λ)
             dl = dlam[:, None]
             dF = E * tt * m * (1 + a * np.sqrt(alam))           # ∂F/∂λ (total, through c)
             dG = E * tt * m * (m + a)
             eF = rel * (envC + np.abs(h)[:, None] * envS) + dl * dF + dc * tt * E
             eG = rel * envS + dl * dG + dc * tt * m * E
-            lamc, cc = lam[:, None], c[:, None]
-            # derivatives: F' = −λG, G' = F − cG, then q'' = −c q' − λ q
+            lamc, cc = lam64[:, None], c[:, None]
+            # derivatives: F' = −λG, G' = F − cG, then q'' = −c q' − λ q (λ, c rounded to
+            # float64: u each, in the 4u terms)
             vals = {"F": [F], "G": [G]}
             errs = {"F": [eF], "G": [eG]}
             if order >= 1:
                 vals["F"].append(-lamc * G)
-                errs["F"].append(alam * eG + dl * bG + 2 * unit * np.abs(vals["F"][1]))
+                errs["F"].append(alam * eG + dl * bG + 3 * _U * np.abs(vals["F"][1]))
                 vals["G"].append(F - cc * G)
                 errs["G"].append(eF + ac * eG + (dc + a * dl) * bG
-                                 + 3 * unit * (np.abs(F) + np.abs(cc * G)))
+                                 + 4 * _U * (np.abs(F) + np.abs(cc * G)))
             for k in range(2, order + 1):
                 for key in ("F", "G"):
                     v, e = vals[key], errs[key]
                     v.append(-cc * v[k - 1] - lamc * v[k - 2])
                     e.append(ac * e[k - 1] + alam * e[k - 2] + (dc + a * dl) * np.abs(v[k - 1])
-                             + dl * np.abs(v[k - 2]) + 3 * unit * (np.abs(cc * v[k - 1])
-                                                                 + np.abs(lamc * v[k - 2])))
-            eF_out = errs["F"][order].astype(float) * (1 + 1e-9)
-            eG_out = errs["G"][order].astype(float) * (1 + 1e-9)
-        return vals["F"][order], vals["G"][order], eF_out, eG_out
+                             + dl * np.abs(v[k - 2]) + 4 * _U * (np.abs(cc * v[k - 1])
+                                                               + np.abs(lamc * v[k - 2])))
+        return vals["F"][order], vals["G"][order], errs["F"][order], errs["G"][order]
 
     def _compute(self, t: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
         key = (t.tobytes(), order)
@@ -571,8 +666,8 @@ class ChebyshevMotion:
                     values[:, part] = v
                     errors[part] = e
                     uniform[part] = w
-        bounds = (np.outer(1 / self._operator["root"], errors) + uniform[None, :]) * (1 + 8 * _EPS)
-        bounds = np.where(np.isfinite(bounds), bounds, np.inf)
+        bounds = np.outer(1 / self._operator["root"], errors * (1 + 8 * _EPS))
+        bounds += uniform * (1 + 8 * _EPS)
         self._last = (key, (values, bounds))
         return values, bounds
 
@@ -589,17 +684,17 @@ class ChebyshevMotion:
         values = np.zeros((self.n, len(t)))
         total = np.zeros(len(t))
         products = np.zeros(len(t))     # Σ_k |c_k| max_i |V_ik|
-        block = max(1, math.isqrt(N) + 1)
+        block = -(-(N + 1) // _PRODUCT_BLOCKS)   # ⌈(N + 1)/blocks⌉ terms per block
         blocks = 0
         for column, (f, ef, kind, norm) in enumerate(((F, eF, "F", self._norms[0]),
                                                       (G, eG, "G", self._norms[1]))):
             if column >= V.shape[0]:
                 break
-            coef_work = fft.dct(f, type=1, axis=0) / N
+            coef_work = fft.dct(f.astype(_WORK), type=1, axis=0) / N
             coef_work[0] /= 2
             coef_work[-1] /= 2
             coef = coef_work.astype(float)
-            for start in range(0, N + 1, block):  # blocks of √N terms: error γ_{√N} + γ_{blocks}
+            for start in range(0, N + 1, block):  # error γ_block + γ_blocks
                 values += V[column][:, start:start + block] @ coef[start:start + block]
                 blocks += 1
             acoef = np.abs(coef)
@@ -607,9 +702,9 @@ class ChebyshevMotion:
                 trunc = ell.truncation(kind, order, t, N)
                 nodal = lebesgue * np.max(ef, axis=0)
                 dct = dct_factor * np.sqrt(np.sum(acoef * acoef, axis=0))
-                size = np.max(np.abs(f), axis=0).astype(float) + trunc + nodal + dct  # ≥ max |p̂_N|
+                size = np.max(np.abs(f), axis=0) + trunc + nodal + dct  # ≥ max |p̂_N|
                 total += (trunc + nodal + dct + 2 * _U * size) * norm
-                total += acoef.T @ vec_err[column]
+                total += _tails(coef, acoef)[1:].T @ vec_err[column][:-1]
                 products += acoef.T @ vinf[column]
         # the product in blocks (γ_block + γ_blocks), the rounding of the coefficients and of
         # the vectors to float64 (u each), relative to Σ_k |c_k||V_ik|
@@ -642,10 +737,14 @@ def chebyshev_motion(scene: Scene) -> ChebyshevMotion:
     if coefficients is None:
         raise SceneError("the Chebyshev route needs Rayleigh damping C = aK + bM (a, b ≥ 0) "
                          "and a diagonal, positive M")
-    exact = all(_is_double(value) for name in ("M", "K")
+    exact = all((value.q == 1 and -_TWO53 < value.p < _TWO53) or _is_double(value)
+                for name in ("M", "K")
                 for value in (rational_entries(scene, name) or {}).values())
     return ChebyshevMotion(symmetric_scene(scene, damping=coefficients), *coefficients,
                            exact_data=exact)
+
+
+_TWO53 = 2**53
 
 
 def _is_double(value: Any) -> bool:

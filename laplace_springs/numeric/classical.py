@@ -445,7 +445,7 @@ def _scalar_parts(theta: np.ndarray, c: np.ndarray, t: np.ndarray) -> tuple[np.n
     omega = np.sqrt(np.maximum(theta, 0.0))
     delta = np.where(theta >= 0, (omega - h) * (omega + h), theta - h * h)  # θ < 0: overdamped
     under = delta > 0
-    Cf = np.empty((len(theta), len(t)), dtype=np.result_type(theta, t, float))  # long double kept
+    Cf = np.empty((len(theta), len(t)))
     Sf = np.empty_like(Cf)
     envC = np.empty_like(Cf)
     envS = np.empty_like(Cf)

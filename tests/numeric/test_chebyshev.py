@@ -8,8 +8,11 @@ central differences of it for derivatives. Every bound must cover the true error
 
 from __future__ import annotations
 
+import sys
 from fractions import Fraction
+from pathlib import Path
 
+import mpmath
 import numpy as np
 import pytest
 
@@ -147,8 +150,9 @@ def test_policy_routes_rayleigh_and_refuses_other_large_classical_scenes():
                               first_order=True, classical=True, rayleigh=False)
     with pytest.raises(SceneError, match="CLASSICAL_MAX_COORDINATES = 4,000"):
         policy.route_for("modal", other)
-    small = policy.SceneFacts(n=60, symbolic=False, forced=False, rational=True,
-                              first_order=True, classical=True, rayleigh=True)
+    small = policy.SceneFacts(n=policy.CHEBYSHEV_MIN_COORDINATES - 1, symbolic=False,
+                              forced=False, rational=True, first_order=True, classical=True,
+                              rayleigh=True)
     assert small.modal_kind == "classical"
 
 
@@ -190,3 +194,132 @@ def test_verify_runs_on_a_scene_beyond_the_dense_size_limit_and_catches_a_wrong_
     wrong.__dict__.update(sol.__dict__)
     wrong.scene = stiffer  # the motion of the first chain is not one of the stiffer chain
     assert not wrong.verify()
+
+
+# ----------------------------------------------------------------------------- tight bounds
+# (issue 14: the working-precision recurrence and node values, and the tail sums S_j)
+
+
+def bench_module():
+    """benchmarks/bench_scaling.py (the scenes and its double-double Taylor reference)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    try:
+        import bench_scaling
+    finally:
+        sys.path.pop(0)
+    return bench_scaling
+
+
+def mp_chain_rows(n: int, rows: list[int], times, a=Fraction(1, 500), b=Fraction(1, 100),
+                  dps: int = 40) -> np.ndarray:
+    """Rows of the unit chain's motion (x0 = e1, v0 = 0) from its analytic modes in mpmath
+    (any damping: the complex √δ gives the overdamped modes too)."""
+    with mpmath.workdps(dps):
+        pi = mpmath.pi
+        scale = mpmath.sqrt(mpmath.mpf(2) / (n + 1))
+        modes = []
+        for j in range(1, n + 1):
+            theta = 4 * mpmath.sin(j * pi / (2 * (n + 1))) ** 2
+            h = (mpmath.mpf(a.numerator) / a.denominator * theta + mpmath.mpf(b.numerator) / b.denominator) / 2
+            modes.append((j, h, mpmath.sqrt(mpmath.mpc(theta - h * h)), scale * mpmath.sin(j * pi / (n + 1))))
+        out = np.empty((len(rows), len(times)))
+        for s, time in enumerate(times):
+            t = mpmath.mpf(float(time))
+            q = [(j, first * mpmath.exp(-h * t) * (mpmath.cos(d * t) + h * mpmath.sin(d * t) / d).real)
+                 for j, h, d, first in modes]
+            for r, i in enumerate(rows):
+                out[r, s] = float(mpmath.fsum(scale * mpmath.sin((i + 1) * j * pi / (n + 1)) * value
+                                              for j, value in q))
+    return out
+
+
+CHAIN_TIMES = np.array([0.0, 0.37, 4.1, 17.0, 33.3, 50.0])
+
+
+@pytest.fixture(scope="module")
+def chain_1000():
+    n, rows = 1000, [0, 1, 2, 500, 999]
+    return n, rows, mp_chain_rows(n, rows, CHAIN_TIMES)
+
+
+def test_chain_bound_covers_the_40_digit_analytic_error_and_meets_the_target(chain_1000):
+    n, rows, reference = chain_1000
+    motion = chebyshev_motion(chain(n))
+    assert motion.exact_data
+    values, bounds = motion.values(CHAIN_TIMES)[rows], motion.bound(CHAIN_TIMES)[rows]
+    error = np.abs(values - reference)
+    assert np.all(error <= bounds)
+    assert np.max(bounds) <= 1e-13 * np.max(np.abs(reference))
+    assert np.max(error) > 0  # the comparison sees rounding
+
+
+def test_a_lowered_degree_is_covered_by_the_truncation_bound(chain_1000, monkeypatch):
+    n, rows, reference = chain_1000
+    motion = chebyshev_motion(chain(n))
+    full = motion._degrees
+    monkeypatch.setattr(motion, "_degrees", lambda t, order: np.maximum(16, full(t, order) - 32))
+    values, bounds = motion.values(CHAIN_TIMES)[rows], motion.bound(CHAIN_TIMES)[rows]
+    error = np.abs(values - reference)
+    assert np.max(error) > 1e-9  # a real truncation error ...
+    assert np.all(error <= bounds)  # ... and the bound covers it
+
+
+def test_a_float64_working_precision_is_covered_and_is_what_the_long_double_tightens(chain_1000, monkeypatch):
+    n, rows, reference = chain_1000
+    tight = np.max(chebyshev_motion(chain(n)).bound(CHAIN_TIMES))
+    monkeypatch.setattr(chebyshev, "_WORK", np.float64)
+    monkeypatch.setattr(chebyshev, "_UW", chebyshev._U)
+    motion = chebyshev_motion(chain(n))
+    values, bounds = motion.values(CHAIN_TIMES)[rows], motion.bound(CHAIN_TIMES)[rows]
+    assert motion._operator["P_work"].dtype == np.float64
+    assert np.all(np.abs(values - reference) <= bounds)
+    assert np.max(bounds) > 100 * tight
+
+
+def test_inexact_float_data_is_accounted_for():
+    # masses like 7/3 are not float64 numbers: the operator's rounding enters the bound
+    scene = random_rayleigh(3)
+    motion = chebyshev_motion(scene)
+    assert not motion.exact_data
+    times = [0.0, 2.0, 20.0]
+    reference = reference_motion(scene, times, dps=40)
+    assert np.all(np.abs(motion.values(np.array(times)) - reference) <= motion.bound(np.array(times)))
+
+
+def test_mesh_bound_covers_the_double_double_reference_and_meets_the_target():
+    bench = bench_module()
+    spec = bench.scene_spec("mesh-rayleigh", 300)
+    times = np.linspace(0.0, 50.0, 11)
+    high, low = bench.DoubleDoubleTaylor(spec).motion(times)
+    sol = ls.solve(bench.build_scene(spec))
+    assert isinstance(sol.motion, ChebyshevMotion)
+    values, bounds = sol.evaluate(times, return_error=True)
+    error = np.abs((values - high) - low)
+    assert np.all(error <= bounds)
+    assert np.max(bounds) <= 1e-13 * np.max(np.abs(high))
+
+
+def test_tail_sums_bound_the_clenshaw_tails():
+    # S_j ≥ max |Σ_{k≥j} c_k U_{k−j}(x)| on [−1, 1], checked on a fine grid (plus rounding)
+    rng = np.random.default_rng(7)
+    coef = rng.standard_normal((40, 3)) * np.exp(-0.1 * np.arange(40))[:, None]
+    S = chebyshev._tails(coef, np.abs(coef))
+    x = np.cos(np.linspace(0.0, np.pi, 4001))
+    for column in range(3):
+        b1, b2 = np.zeros_like(x), np.zeros_like(x)
+        for j in range(39, -1, -1):  # Clenshaw: b_j = c_j + 2x b_{j+1} − b_{j+2}
+            b1, b2 = coef[j, column] + 2 * x * b1 - b2, b1
+            assert np.max(np.abs(b1)) <= S[j, column] * (1 + 1e-12)
+        crude = np.sum(np.abs(coef[:, column]) * np.arange(1, 41))
+        assert S[0, column] < crude
+
+
+@pytest.mark.parametrize("family", ["chain-rayleigh", "mesh-rayleigh"])
+def test_benchmark_scenes_meet_the_target_with_their_own_bound(family):
+    """The scaling benchmark's scenes (1,000 masses, 1,000 times on [0, 50]): the bound
+    itself is below 1e-13 of max |x| (it was 2e-11 and 8e-10 with the float64 recurrence)."""
+    bench = bench_module()
+    sol = ls.solve(bench.build_scene(bench.scene_spec(family, 1000)))
+    assert isinstance(sol.motion, ChebyshevMotion)
+    values, bounds = sol.evaluate(np.linspace(0.0, 50.0, 1000), return_error=True)
+    assert np.max(bounds) <= 1e-13 * np.max(np.abs(values))
