@@ -356,7 +356,7 @@ def _term_atoms(term: sp.Expr) -> list[_Atom]:
     if len(deltas) > 1:
         raise _Unsupported(term, f"{term} multiplies impulses")
     if deltas:
-        return _impulse_atoms(term, coefficient, power, waves, switches, deltas[0])
+        return _impulse_atoms(term, coefficient, deltas[0])
     atoms = []
     for switch in itertools.product(*switches):
         sign = sp.Mul(*(sgn for sgn, _ in switch))
@@ -406,16 +406,18 @@ def _delta(factor: sp.DiracDelta) -> tuple[sp.Expr, sp.Expr]:
     return 1 / sp.Abs(c), _switch_time(c, d, factor)
 
 
-def _impulse_atoms(term, coefficient, power, waves, switches, delta) -> list[_Atom]:
+def _impulse_atoms(term: sp.Expr, coefficient: sp.Expr, delta: tuple[sp.Expr, sp.Expr]) -> list[_Atom]:
     """g(t)·δ(t - τ) = g(τ)·δ(t - τ): an atom of power -1 (transform e^{-sτ})."""
     weight, tau = delta
     if tau < 0:
         return []
     others = sp.Mul(*(f for f in sp.Mul.make_args(term)
                       if f.has(t) and not isinstance(f, sp.DiracDelta)))
-    if switches:
-        raise _Unsupported(term, f"{term} multiplies an impulse by a step")
-    value = sp.simplify(coefficient * weight * others.subs(t, tau))
+    for step in (f for f in sp.Mul.make_args(term) if isinstance(f, sp.Heaviside)):
+        if step.args[0].subs(t, tau) == 0:  # a step switching at the impulse: no value there
+            raise _Unsupported(term, f"{term} multiplies an impulse by a step that switches "
+                               "at the same time")
+    value = sp.simplify(coefficient * weight * others.subs(t, tau))  # steps are 0 or 1 at τ
     return [_Atom(value, -1, sp.S.Zero, tau)] if value != 0 else []
 
 

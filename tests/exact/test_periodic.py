@@ -239,3 +239,37 @@ def test_verify_and_latex_of_a_periodic_response():
     sol = ls.solve(scene)
     assert sol.verify()
     assert r"\left\lfloor" in sol.latex()
+
+
+def test_periodic_hammer_blows_against_the_sum_of_impulse_responses():
+    """x'' + x'/5 + 4x = Σ_k δ(t - 1/2 - k) from rest: x is the sum of the shifted impulse
+    responses e^{-τ/10} sin(ω_d τ)/ω_d, τ = t - 1/2 - k > 0 (summed in mpmath, 40 digits)."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["1/5"]], K=[[4]], x0=[0], v0=[0],
+                                   forcing=[ls.periodic("DiracDelta(t - 1/2)", 1)])
+    sol = ls.solve(scene)
+    mpmath.mp.dps = 40
+    damping = mpmath.mpf(1) / 5
+    wd = mpmath.sqrt(4 - damping**2 / 4)
+
+    def reference(time: str):
+        total, k, T = mpmath.mpf(0), 0, mpmath.mpf(time)
+        while k + mpmath.mpf(1) / 2 < T:
+            tau = T - k - mpmath.mpf(1) / 2
+            total += mpmath.exp(-damping * tau / 2) * mpmath.sin(wd * tau) / wd
+            k += 1
+        return float(total)
+
+    for time in ("3.3", "100.25", "100.75", "1000.5001"):
+        value, bound = sol.evaluate([time], return_error=True)
+        assert abs(value[0, 0] - reference(time)) <= bound[0, 0] + 1e-17
+        assert bound[0, 0] < 1e-13
+
+
+def test_an_impulse_times_a_step_takes_the_steps_value_at_the_impulse():
+    """δ(t - 1)H(t - 2) = 0 and δ(t - 3)H(t - 2) = δ(t - 3); a step switching at the impulse
+    itself has no value there and is refused."""
+    s = ls.s
+    assert ls.laplace("DiracDelta(t - 1)*Heaviside(t - 2) + DiracDelta(t - 3)*Heaviside(t - 2)") \
+        == sp.exp(-3 * s)
+    with pytest.raises(SceneError, match="switches at the same time"):
+        ls.laplace("DiracDelta(t - 1)*Heaviside(t - 1)")
