@@ -93,6 +93,20 @@ class Periodic(sp.Function):
             return self.at(new)
         return None
 
+    def _eval_derivative(self, symbol: sp.Symbol) -> sp.Expr:
+        """d/dt on t ≥ 0 (f(0⁻) = 0): g' inside each period, plus the jumps g(0) at t = 0 and
+        g(0) − g(T⁻) at t = T, 2T, ... as impulses; d/da of a parameter a is periodic(∂g/∂a, T).
+
+        >>> Periodic(t / 2, 2).diff(t)       # a sawtooth falls by 1 at t = 2, 4, ...
+        DiracDelta(t) + periodic(1/2 - DiracDelta(t), 2)
+        """
+        g, period = self.one_period, self.period
+        if symbol != t:
+            return Periodic(sp.diff(g, symbol), period) if g.has(symbol) else sp.S.Zero
+        start, end = g.subs(t, 0), sp.limit(g, t, period, dir="-")
+        inner = sp.diff(g, t) + (start - end) * sp.DiracDelta(t)
+        return (Periodic(inner, period) if inner != 0 else sp.S.Zero) + end * sp.DiracDelta(t)
+
     def _eval_is_real(self) -> bool | None:
         return self.one_period.is_real
 

@@ -211,7 +211,12 @@ def _forcing_parts(scene: Scene) -> tuple[list[sp.Expr], sp.Expr]:
         if entry == 0:
             fractions.append((sp.S.Zero, sp.S.One))
             continue
-        parts = input_transform(entry, f"forcing[{j}]", lam).parts
+        transform = input_transform(entry, f"forcing[{j}]", lam)
+        if transform.period is not None:
+            raise SceneError(f"sweep: forcing[{j}] = {shown(entry)} is periodic; sweep takes "
+                             "forces without delays or periods, solve such scenes one by one "
+                             "with ls.solve(scene.subs(...))")
+        parts = transform.parts
         if any(tau != 0 for tau, _ in parts):
             raise SceneError(f"sweep: forcing[{j}] = {shown(entry)} has a delayed part "
                              "(Heaviside or DiracDelta at t > 0); sweep takes forces without "
@@ -250,6 +255,9 @@ def compile_scene(scene: Scene) -> CompiledScene:
     >>> compiled.names, compiled.denominator, compiled.numerators
     (('c', 'k'), [1, c, k], [[1, c]])
     """
+    if scene.sampled is not None:
+        raise SceneError("sweep: the scene has sampled forces; sweep takes forces given as "
+                         "formulas, solve such scenes one by one with ls.solve(scene.subs(...))")
     if scene.n > SWEEP_MAX_COORDINATES:
         raise SceneError(f"sweep: the scene has {scene.n} coordinates, more than "
                          f"{SWEEP_MAX_COORDINATES} (SWEEP_MAX_COORDINATES); its symbolic "

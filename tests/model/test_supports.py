@@ -318,3 +318,29 @@ def test_the_example_scene_file_reaches_the_textbook_steady_amplitude():
     (a, b), *_ = np.linalg.lstsq(basis, x, rcond=None)
     textbook = 2 * (109 / 661) ** 0.5 / 100
     assert abs(np.hypot(a, b) - textbook) < 1e-12 * textbook
+
+
+def test_a_sawtooth_support_through_a_dashpot_against_a_piecewise_ode_reference():
+    """u = sawtooth(1/100, 2) = (t mod 2)/200 under a spring k = 4 and a dashpot c = 1/2:
+    between the drops the mass follows x'' = -c(x' - 1/200) - k(x - u) (mpmath's Taylor ODE
+    solver, 30 digits); each drop of u by 1/100 gives the velocity a blow -c/100."""
+    scene = ls.Scene.from_components(masses={"m": 1}, springs={"k": ("ground", "m", 4)},
+                                     dashpots={"c": ("ground", "m", "1/2")},
+                                     support_motion={"ground": "sawtooth(1/100, 2)"})
+    with mpmath.workdps(30):
+        k, c = mpmath.mpf(4), mpmath.mpf(1) / 2
+
+        def segment(x, v, start, stop):
+            def rhs(time, y):
+                return [y[1], -c * (y[1] - mpmath.mpf(1) / 200) - k * (y[0] - (time - start) / 200)]
+            return mpmath.odefun(rhs, start, [x, v])(stop)
+
+        x, v, start, end = mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf("7.3")
+        while start + 2 <= end:
+            x, v = segment(x, v, start, start + 2)
+            v -= c / 100
+            start += 2
+        x, _ = segment(x, v, start, end)
+        x = float(x)
+    value, bound = ls.solve(scene).evaluate(["7.3"], return_error=True)
+    assert abs(value[0, 0] - x) <= bound[0, 0] + 1e-18
