@@ -279,17 +279,6 @@ def _reset_peak() -> bool:
     return True
 
 
-def _clear_caches() -> None:
-    from sympy.core.cache import clear_cache
-
-    clear_cache()
-    for name, module in list(sys.modules.items()):
-        if name.startswith("laplace_springs") and module is not None:
-            for value in list(vars(module).values()):
-                if callable(getattr(value, "cache_clear", None)):
-                    value.cache_clear()
-
-
 def worker(task: dict[str, Any]) -> dict[str, Any]:
     """Run one method on one scene (in its own process) and report time and memory."""
     if task.get("memory_gb"):
@@ -299,6 +288,7 @@ def worker(task: dict[str, Any]) -> dict[str, Any]:
     import scipy.sparse.linalg  # noqa: F401
 
     import laplace_springs  # noqa: F401
+    from laplace_springs.bench.harness import clear_caches
 
     method, spec = task["method"], scene_spec(task["family"], task["n"])
     times = np.linspace(0.0, HORIZON, task["count"])
@@ -309,7 +299,7 @@ def worker(task: dict[str, Any]) -> dict[str, Any]:
         scene = build_scene(spec)
 
         def run() -> np.ndarray:
-            _clear_caches()
+            clear_caches()
             values, extra = run_laplace_springs(scene, times)
             info.update(extra)
             return values

@@ -69,7 +69,7 @@ from .records import DEFAULT_ROUTE, BenchCase, BenchmarkResult, BenchSettings, R
 from .reference import reference_motion_arb
 
 __all__ = ["BenchCase", "BenchSettings", "Record", "Verdict", "BenchmarkResult",
-           "default_cases", "select_methods", "pareto_verdict", "run_benchmark"]
+           "default_cases", "select_methods", "pareto_verdict", "run_benchmark", "clear_caches"]
 
 # ----------------------------------------------------------------------------- selection
 
@@ -151,7 +151,7 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         signal.signal(signal.SIGALRM, previous)
 
 
-def _clear_caches() -> None:
+def clear_caches() -> None:
     """Empty SymPy's cache and the functools caches of this package."""
     clear_cache()
     for name, module in list(sys.modules.items()):
@@ -200,7 +200,7 @@ def _timed_runs(method: Method, problem: Problem, state: Any, settings: BenchSet
     runs: list[tuple[float, Outcome]] = []
     while True:
         if method.ours:
-            _clear_caches()
+            clear_caches()
         start = time.perf_counter()
         if method.own_limit:
             outcome = method.run(problem, state)

@@ -32,6 +32,7 @@ import numpy as np
 
 from .errors import SceneError
 from .numbers import shown
+from .text_files import read_text_file
 
 __all__ = ["KINDS", "MAX_CSV_BYTES", "Sampled", "sampled", "sampled_from_csv",
            "sampled_entries", "formula_part", "resolve_csv_entries"]
@@ -216,17 +217,7 @@ class Sampled:
 
 
 def _read_csv_text(path: Path) -> str:
-    try:
-        with path.open("rb") as file:
-            data = file.read(MAX_CSV_BYTES + 1)
-    except OSError as exc:
-        raise SceneError(f"cannot read CSV file {str(path)!r}: {exc.strerror or exc}") from None
-    if len(data) > MAX_CSV_BYTES:
-        raise SceneError(f"CSV file {str(path)!r} has more than {MAX_CSV_BYTES:,} bytes (MAX_CSV_BYTES)")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"CSV file {str(path)!r} is not UTF-8 text: {exc}") from None
+    return read_text_file(path, "CSV file", MAX_CSV_BYTES, "MAX_CSV_BYTES", "utf-8-sig")
 
 
 def _column(header: list[str], name: str, role: str, where: str) -> int:

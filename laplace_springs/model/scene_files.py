@@ -70,6 +70,7 @@ from .errors import SceneError
 from .numbers import shown
 from .sampled import resolve_csv_entries
 from .scene import MAX_COMPONENTS, MAX_COORDINATES, MAX_MATRIX_INPUT_SIZE, Scene
+from .text_files import read_text_file
 
 __all__ = ["MAX_FILE_BYTES", "bundled_scenes", "load_scene", "scene_from_toml_text"]
 
@@ -291,18 +292,7 @@ def _looks_like_path(name_or_path: str | os.PathLike[str]) -> bool:
 
 def _read_path(path: Path) -> str:
     """The text of a scene file: at most MAX_FILE_BYTES are read, whatever the file is."""
-    try:
-        with path.open("rb") as file:
-            data = file.read(MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror or exc}") from None
-    if len(data) > MAX_FILE_BYTES:
-        raise SceneError(f"scene file {str(path)!r} has more than {MAX_FILE_BYTES:,} bytes, the "
-                         "limit MAX_FILE_BYTES")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"scene file {str(path)!r} is not UTF-8 text: {exc}") from None
+    return read_text_file(path, "scene file", MAX_FILE_BYTES, "MAX_FILE_BYTES")
 
 
 def _check_text_size(text: str) -> None:
