@@ -10,8 +10,8 @@ Files (written to a temporary folder, timed from ``load_scene`` of the path):
   (d = 1, 2, ...) of stiffness 1, 2 or 3: N = 1,000, 10,000, 30,000;
 * masses: a fixed-fixed chain of N unit masses with a spring "2" and a dashpot "1/10" on
   every link (N masses, 2N + 2 components): N = 1,000, 10,000 (and 100,000 with --large);
-* refusals: MAX_COORDINATES + 1 masses, MAX_COMPONENTS + 1 springs, a [matrices] M of
-  MAX_MATRIX_INPUT_SIZE + 1 columns, a file of MAX_FILE_BYTES + 1 bytes.
+* refusals: Limits.max_coordinates + 1 masses, Limits.max_components + 1 springs, a [matrices] M of
+  Limits.max_matrix_input_size + 1 columns, a file of Limits.max_file_bytes + 1 bytes.
 
 The exponent between two sizes is log(t2/t1)/log(N2/N1): 1 is linear, 2 quadratic.
 
@@ -27,9 +27,8 @@ import time
 from pathlib import Path
 
 import laplace_springs as ls
+from laplace_springs.limits import limits
 from laplace_springs.model.errors import SceneError
-from laplace_springs.model.scene import MAX_COMPONENTS, MAX_COORDINATES, MAX_MATRIX_INPUT_SIZE
-from laplace_springs.model.scene_files import MAX_FILE_BYTES
 
 
 def chain_toml(n: int) -> str:
@@ -99,13 +98,13 @@ def main() -> None:
             previous = (n, seconds)
     print()
     refusals = {
-        f"{MAX_COORDINATES + 1:,} masses": "[masses]\n" + "".join(
-            f"m{i} = 1\n" for i in range(MAX_COORDINATES + 1)),
-        f"{MAX_COMPONENTS + 1:,} springs": "[masses]\nm = 1\n[springs]\n" + "".join(
-            f'k{i} = ["m", "wall", 1]\n' for i in range(MAX_COMPONENTS + 1)),
-        f"[matrices] M of {MAX_MATRIX_INPUT_SIZE + 1:,} columns": "[matrices]\nM = [" + ",\n".join(
-            ["[" + ", ".join(["0"] * (MAX_MATRIX_INPUT_SIZE + 1)) + "]"] * (MAX_MATRIX_INPUT_SIZE + 1)) + "]\n",
-        f"{MAX_FILE_BYTES + 1:,} bytes": "#" * (MAX_FILE_BYTES + 1),
+        f"{limits().max_coordinates + 1:,} masses": "[masses]\n" + "".join(
+            f"m{i} = 1\n" for i in range(limits().max_coordinates + 1)),
+        f"{limits().max_components + 1:,} springs": "[masses]\nm = 1\n[springs]\n" + "".join(
+            f'k{i} = ["m", "wall", 1]\n' for i in range(limits().max_components + 1)),
+        f"[matrices] M of {limits().max_matrix_input_size + 1:,} columns": "[matrices]\nM = [" + ",\n".join(
+            ["[" + ", ".join(["0"] * (limits().max_matrix_input_size + 1)) + "]"] * (limits().max_matrix_input_size + 1)) + "]\n",
+        f"{limits().max_file_bytes + 1:,} bytes": "#" * (limits().max_file_bytes + 1),
     }
     print("| refused file | size (MB) | time (s) | message |\n|---|---|---|---|")
     for label, text in refusals.items():

@@ -3,7 +3,7 @@
 10^5 samples over 100 s of a force on the first mass of the seed's Example 5 (2 masses,
 damped) and of an undamped 2-mass scene, evaluated at the 10^5 sample times (lsim's grid)
 and at 10^5 other times. Both are timed in the same run (best of 3); agreement is measured
-against lsim on its grid, and our own bound against the contract's target (TARGET of
+against lsim on its grid, and our own bound against the contract's target (Limits.target of
 max(|x(t)|, S₀) at each time; "escalated" counts the times whose bound misses it).
 
     python benchmarks/bench_sampled.py [samples]
@@ -17,9 +17,10 @@ import time
 import numpy as np
 from scipy import signal
 
+from laplace_springs.limits import limits
 from laplace_springs.model.sampled import sampled
 from laplace_springs.model.scene import Scene
-from laplace_springs.policy import TARGET, column_scales, escalate_columns
+from laplace_springs.policy import column_scales, escalate_columns
 from laplace_springs.routes.sampled import solve_sampled
 
 
@@ -58,7 +59,7 @@ def run(label, M, C, K, samples):
     floor = sol._floor(0)
     worst = max(np.max(b / column_scales(v, floor)) for v, b in ((values, bounds),
                                                                  (other_values, other_bounds)))
-    missed = sum(int(np.sum(escalate_columns(v, b, floor, TARGET)))
+    missed = sum(int(np.sum(escalate_columns(v, b, floor, limits().target)))
                  for v, b in ((values, bounds), (other_values, other_bounds)))
     print(f"{label}: {samples:,} samples over 100 s, {samples:,} output times")
     print(f"{'':28s}{'time (s)':>10s}{'ratio to lsim':>15s}")
@@ -67,7 +68,7 @@ def run(label, M, C, K, samples):
     print(f"{'ours, at other times':28s}{other_time:10.3f}{other_time / lsim_time:15.2f}")
     print(f"max |ours - lsim| / max|x|: {np.max(np.abs(values - y.T)) / scale:.2e}; "
           f"our largest bound / max|x|: {np.max(bounds) / scale:.2e}")
-    print(f"worst bound / column scale: {worst:.2e} (target {TARGET:g}); escalated times: {missed}\n")
+    print(f"worst bound / column scale: {worst:.2e} (target {limits().target:g}); escalated times: {missed}\n")
 
 
 def main(samples: int = 100_000) -> None:

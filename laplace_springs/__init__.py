@@ -2,7 +2,7 @@
 
 The data flow is Scene → Resolvent → partial fractions → Solution → outputs; the stages
 are the subpackages ``model``, ``exact``, ``numeric``, ``analysis`` and ``output``, and
-:mod:`laplace_springs.policy` decides which route solves a scene:
+:mod:`laplace_springs.planning` chooses the engine that serves a scene and a request:
 
 >>> import laplace_springs as ls
 >>> scene = ls.Scene.from_normalized(A=[[3, -1], [-2, 2]], x0=[1, 0], v0=[0, 0])
@@ -10,66 +10,170 @@ are the subpackages ``model``, ``exact``, ``numeric``, ``analysis`` and ``output
 Matrix([
 [  cos(t)/3 + 2*cos(2*t)/3],
 [2*cos(t)/3 - 2*cos(2*t)/3]])
+
+The public names are loaded when first used (``import laplace_springs`` itself imports
+neither SymPy nor NumPy), so the command line and scripts that need one corner of the
+package start fast.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from ._version import __version__
-from .analysis.frequency import (
-    frequency_response,
-    omega,
-    steady_state_amplitude,
-    transmissibility,
-    transmissibility_function,
-)
-from .analysis.interop import from_state_space, transfer_function
-from .analysis.modes import Mode, modes
-from .exact.inverse import inverse_laplace, inverse_laplace_terms
-from .exact.laplace import laplace
-from .exact.partial_fractions import partial_fractions
-from .exact.resolvent import Resolvent, resolvent
-from .model.errors import InversionError, SceneError
-from .model.forcing import cosine, impulse, ramp, sine, step
-from .model.periodic import Periodic, periodic, pulse_train, sawtooth, square_wave
-from .model.sampled import Sampled, sampled, sampled_from_csv
-from .model.scene import Scene
-from .model.scene_files import bundled_scenes, load_scene
-from .model.symbols import S as s
-from .model.symbols import lam
-from .output.drawing import draw_scene
-from .output.latex import resolvent_latex
-from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero
-from .policy import TARGET
-from .routes.certified import CertifiedSolution
-from .routes.exact import ExactSolution
-from .routes.krylov import KrylovSolution
-from .routes.modal import ModalSolution
-from .routes.sampled import SampledSolution
-from .solution import Solution, Verification, t
-from .solve import solve
-from .sweeps import (
-    SweepResult,
-    grid,
-    peak_amplitude,
-    peak_support_force,
-    sample_parameters,
-    settling_time,
-    steady_state_amplitudes,
-    summarize,
-    support_force,
-    sweep,
-)
+from .limits import DEFAULT_LIMITS as _DEFAULTS
+from .limits import Limits, limits, using_limits  # eager (stdlib only): the names shadow the module
+
+#: Public name -> (module, attribute) it is loaded from on first use.
+_PUBLIC: dict[str, tuple[str, str]] = {
+    # model: scenes and their inputs
+    "Scene": ("model.scene", "Scene"),
+    "SceneError": ("model.errors", "SceneError"),
+    "LimitError": ("model.errors", "LimitError"),
+    "InternalError": ("model.errors", "InternalError"),
+    "InversionError": ("model.errors", "InversionError"),
+    "load_scene": ("model.scene_files", "load_scene"),
+    "bundled_scenes": ("model.scene_files", "bundled_scenes"),
+    "cosine": ("model.forcing", "cosine"),
+    "sine": ("model.forcing", "sine"),
+    "step": ("model.forcing", "step"),
+    "impulse": ("model.forcing", "impulse"),
+    "ramp": ("model.forcing", "ramp"),
+    "periodic": ("model.periodic", "periodic"),
+    "square_wave": ("model.periodic", "square_wave"),
+    "sawtooth": ("model.periodic", "sawtooth"),
+    "pulse_train": ("model.periodic", "pulse_train"),
+    "Periodic": ("model.periodic", "Periodic"),
+    "sampled": ("model.sampled", "sampled"),
+    "sampled_from_csv": ("model.sampled", "sampled_from_csv"),
+    "Sampled": ("model.sampled", "Sampled"),
+    "s": ("model.symbols", "S"),
+    "lam": ("model.symbols", "lam"),
+    "t": ("model.symbols", "TIME"),
+    # exact: transforms and the resolvent
+    "resolvent": ("exact.resolvent", "resolvent"),
+    "Resolvent": ("exact.resolvent", "Resolvent"),
+    "laplace": ("exact.laplace", "laplace"),
+    "partial_fractions": ("exact.partial_fractions", "partial_fractions"),
+    "inverse_laplace": ("exact.inverse", "inverse_laplace"),
+    "inverse_laplace_terms": ("exact.inverse", "inverse_laplace_terms"),
+    # analysis
+    "modes": ("analysis.modes", "modes"),
+    "Mode": ("analysis.modes", "Mode"),
+    "frequency_response": ("analysis.frequency", "frequency_response"),
+    "steady_state_amplitude": ("analysis.frequency", "steady_state_amplitude"),
+    "transmissibility": ("analysis.frequency", "transmissibility"),
+    "transmissibility_function": ("analysis.frequency", "transmissibility_function"),
+    "omega": ("analysis.frequency", "omega"),
+    "transfer_function": ("analysis.interop", "transfer_function"),
+    "from_state_space": ("analysis.interop", "from_state_space"),
+    # output
+    "draw_scene": ("output.drawing", "draw_scene"),
+    "resolvent_latex": ("output.latex", "resolvent_latex"),
+    "plot_bode": ("output.plots", "plot_bode"),
+    "plot_frequency_response": ("output.plots", "plot_frequency_response"),
+    "plot_pole_zero": ("output.plots", "plot_pole_zero"),
+    # solving: the planner and the solutions
+    "solve": ("solving", "solve"),
+    "plan": ("planning", "plan_for"),
+    "Plan": ("planning", "Plan"),
+    "Solution": ("solution", "Solution"),
+    "Verification": ("solution", "Verification"),
+    "EvaluationReport": ("solution", "EvaluationReport"),
+    "ExactSolution": ("routes.exact", "ExactSolution"),
+    "ModalSolution": ("routes.modal", "ModalSolution"),
+    "CertifiedSolution": ("routes.certified", "CertifiedSolution"),
+    "KrylovSolution": ("routes.krylov", "KrylovSolution"),
+    "SampledSolution": ("routes.sampled", "SampledSolution"),
+    # sweeps
+    "sweep": ("sweeps.run", "sweep"),
+    "grid": ("sweeps.run", "grid"),
+    "SweepResult": ("sweeps.run", "SweepResult"),
+    "sample_parameters": ("sweeps.uncertainty", "sample_parameters"),
+    "summarize": ("sweeps.uncertainty", "summarize"),
+    "peak_amplitude": ("sweeps.derived", "peak_amplitude"),
+    "settling_time": ("sweeps.derived", "settling_time"),
+    "steady_state_amplitudes": ("sweeps.derived", "steady_state_amplitudes"),
+    "support_force": ("sweeps.derived", "support_force"),
+    "peak_support_force": ("sweeps.derived", "peak_support_force"),
+}
+
+#: The default relative accuracy of every evaluation (``ls.limits().target``).
+TARGET = _DEFAULTS.target
 
 __all__ = [
-    "Scene", "SceneError", "InversionError", "load_scene", "bundled_scenes",
-    "resolvent", "Resolvent", "resolvent_latex", "lam", "s", "laplace", "partial_fractions", "inverse_laplace",
-    "inverse_laplace_terms", "solve", "Solution", "ExactSolution", "ModalSolution",
-    "CertifiedSolution", "KrylovSolution", "Verification", "TARGET", "t",
-    "cosine", "sine", "step", "impulse", "ramp",
-    "periodic", "square_wave", "sawtooth", "pulse_train", "Periodic",
-    "sampled", "sampled_from_csv", "Sampled", "SampledSolution",
-    "modes", "Mode", "frequency_response", "steady_state_amplitude",
-    "plot_frequency_response", "draw_scene", "omega", "__version__",
-    "transfer_function", "from_state_space", "plot_bode", "plot_pole_zero",
-    "transmissibility", "transmissibility_function",
-    "sweep", "grid", "SweepResult", "sample_parameters", "summarize", "peak_amplitude",
-    "settling_time", "steady_state_amplitudes", "support_force", "peak_support_force",
+    "CertifiedSolution", "EvaluationReport", "ExactSolution", "InternalError", "InversionError",
+    "KrylovSolution", "LimitError", "Limits", "ModalSolution", "Mode", "Periodic", "Plan",
+    "Resolvent", "Sampled", "SampledSolution", "Scene", "SceneError", "Solution", "SweepResult",
+    "TARGET", "Verification", "__version__", "bundled_scenes", "cosine", "draw_scene",
+    "frequency_response", "from_state_space", "grid", "impulse", "inverse_laplace",
+    "inverse_laplace_terms", "lam", "laplace", "limits", "load_scene", "modes", "omega",
+    "partial_fractions", "peak_amplitude", "peak_support_force", "periodic", "plan", "plot_bode",
+    "plot_frequency_response", "plot_pole_zero", "pulse_train", "ramp", "resolvent",
+    "resolvent_latex", "s", "sample_parameters", "sampled", "sampled_from_csv", "sawtooth",
+    "settling_time", "sine", "solve", "square_wave", "steady_state_amplitude",
+    "steady_state_amplitudes", "step", "summarize", "support_force", "sweep", "t",
+    "transfer_function", "transmissibility", "transmissibility_function", "using_limits",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name on first use (PEP 562)."""
+    try:
+        module, attribute = _PUBLIC[name]
+    except KeyError:
+        raise AttributeError(f"module 'laplace_springs' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(f".{module}", __name__), attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))
+
+
+if TYPE_CHECKING:  # the same names, for type checkers and IDEs
+    from .analysis.frequency import (
+        frequency_response,
+        omega,
+        steady_state_amplitude,
+        transmissibility,
+        transmissibility_function,
+    )
+    from .analysis.interop import from_state_space, transfer_function
+    from .analysis.modes import Mode, modes
+    from .exact.inverse import inverse_laplace, inverse_laplace_terms
+    from .exact.laplace import laplace
+    from .exact.partial_fractions import partial_fractions
+    from .exact.resolvent import Resolvent, resolvent
+    from .model.errors import InternalError, InversionError, LimitError, SceneError
+    from .model.forcing import cosine, impulse, ramp, sine, step
+    from .model.periodic import Periodic, periodic, pulse_train, sawtooth, square_wave
+    from .model.sampled import Sampled, sampled, sampled_from_csv
+    from .model.scene import Scene
+    from .model.scene_files import bundled_scenes, load_scene
+    from .model.symbols import TIME as t
+    from .model.symbols import S as s
+    from .model.symbols import lam
+    from .output.drawing import draw_scene
+    from .output.latex import resolvent_latex
+    from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero
+    from .planning import Plan
+    from .planning import plan_for as plan
+    from .routes.certified import CertifiedSolution
+    from .routes.exact import ExactSolution
+    from .routes.krylov import KrylovSolution
+    from .routes.modal import ModalSolution
+    from .routes.sampled import SampledSolution
+    from .solution import EvaluationReport, Solution, Verification
+    from .solving import solve
+    from .sweeps.derived import (
+        peak_amplitude,
+        peak_support_force,
+        settling_time,
+        steady_state_amplitudes,
+        support_force,
+    )
+    from .sweeps.run import SweepResult, grid, sweep
+    from .sweeps.uncertainty import sample_parameters, summarize

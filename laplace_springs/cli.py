@@ -42,15 +42,15 @@ from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
 from .bench import harness as bm
+from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
 from .output.plots import overview_figure, plot_frequency_response
 from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
-from .policy import EXACT_FORM_MAX_COORDINATES
 from .solution import Solution
-from .solve import solve
+from .solving import solve
 
 __all__ = ["main"]
 
@@ -111,7 +111,7 @@ def _build_parser() -> argparse.ArgumentParser:
     shown = solve.add_mutually_exclusive_group()
     shown.add_argument("--formula", action="store_true",
                        help="print the formula x(t) (the default up to "
-                            f"{EXACT_FORM_MAX_COORDINATES} coordinates; larger scenes print "
+                            f"{limits().exact_form_max_coordinates} coordinates; larger scenes print "
                             "their modal summary unless asked)")
     shown.add_argument("--modes", action="store_true",
                        help="print the modal summary: natural frequencies, damping ratios and "
@@ -262,14 +262,14 @@ def _check_shown_options(args: argparse.Namespace) -> None:
 
 def _is_large(scene: Scene) -> bool:
     """Beyond the exact form: the summary by default, the formula from float64 modes."""
-    return scene.n > EXACT_FORM_MAX_COORDINATES and not scene.free_symbols
+    return scene.n > limits().exact_form_max_coordinates and not scene.free_symbols
 
 
 def _large_formula_lines(scene: Scene, chosen: list[int] | None, pretty: bool) -> list[str]:
     """The formula of a large scene from its float64 modes, if it is small enough."""
     if scene.is_forced:
         raise UsageError(f"--formula: the formula of a forced scene of more than "
-                         f"{EXACT_FORM_MAX_COORDINATES} coordinates is not written out; "
+                         f"{limits().exact_form_max_coordinates} coordinates is not written out; "
                          f"tabulate it with --at")
     mode_list = float_modes(scene)
     count = len(chosen) if chosen is not None else scene.n

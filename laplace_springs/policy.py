@@ -6,7 +6,7 @@ whose error at each time t satisfies
 
     error_i(t) = abs(x_i(t) − value_i) ≤ target · max(‖x(t)‖∞, S₀)   for every coordinate i,
 
-with ``target`` = :data:`TARGET` unless the caller says otherwise and
+with ``target`` = :attr:`~laplace_springs.limits.Limits.target` unless the caller says otherwise and
 S₀ = ‖x0‖∞ + ‖v0‖∞/ρ, ρ the largest |pole| (the size of the initial data in units of
 displacement). When it cannot (a target below float64's reach, a route that has nothing
 better), the error bound it returns says by how much it may be wrong. That bound is an
@@ -37,106 +37,30 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis.modes import MODES_EXACT_MAX_COORDINATES
+from .limits import limits
 from .model.errors import SceneError
-from .numeric.chebyshev import SHAPES_MAX_COORDINATES
-from .numeric.first_order import NUMERIC_MAX_COORDINATES
 
 __all__ = [
-    "TARGET", "MIN_RELATIVE_BOUND", "METHODS", "ROUTES", "CERTIFIED_AUTO_MAX_COORDINATES",
-    "EXACT_AUTO_MAX_COORDINATES", "EXACT_FALLBACK_MAX_COORDINATES",
-    "EXACT_FORM_MAX_COORDINATES", "CERTIFIED_MAX_ORDER", "ESCALATION_DIGITS", "PROBE_TIMES",
-    "NUMERIC_MAX_COORDINATES", "GENERAL_MODAL_MAX_COORDINATES", "CLASSICAL_MAX_COORDINATES",
-    "CHEBYSHEV_MIN_COORDINATES", "CHEBYSHEV_MAX_COORDINATES",
-    "CLOSED_FORM_MAX_COORDINATES", "MODES_EXACT_MAX_COORDINATES", "KRYLOV_AUTO_MIN_COORDINATES",
-    "SceneFacts", "Decision", "route_for", "after_modal_probe", "reference_scale",
+    "METHODS", "ROUTES", "SceneFacts", "Decision", "route_for", "after_modal_probe", "reference_scale",
     "column_scales", "escalate_columns", "check_target",
 ]
 
-#: Default accuracy of every evaluation, relative to max(‖x(t)‖∞, S₀) (see the contract).
-TARGET = 1e-13
-#: A float64 bound never claims less than this relative to the value (14 significant
-#: digits): a decimal reference printed to 15 digits differs from a correctly rounded
-#: float64 value by up to 5e-15 of it, and no float64 value is better than its decimal.
-MIN_RELATIVE_BOUND = 1e-14
 
 #: The routes a solution reports as its ``method``.
 ROUTES = ("exact", "modal", "certified", "krylov")
 #: What ``solve(method=...)`` accepts; "numeric" is the former name of "modal".
 METHODS = ("auto", *ROUTES, "numeric")
 
-#: "auto" certifies rational scenes up to this many coordinates. Measured with
-#: benchmarks/bench_routes.py (damped chains, 1000 times): certified 2–10 ms for 1–4
-#: masses where modal takes 3–21 ms and the exact route 20–160 ms; from 6 masses on the
-#: two are close or modal is faster (8 masses: 18 ms against 35 ms).
-CERTIFIED_AUTO_MAX_COORDINATES = 4
-#: "auto" solves exactly up to this many coordinates when the certified route cannot take
-#: the scene (irrational entries): Δ of degree ≤ 4, radicals, milliseconds.
-EXACT_AUTO_MAX_COORDINATES = 2
-#: Largest scene the exact route serves as a fallback or escalation (symbolic work grows
-#: fast with the degree of Δ's irreducible factors).
-EXACT_FALLBACK_MAX_COORDINATES = 8
-#: Largest scene whose ``x`` is built as an exact closed form on other routes; beyond it
-#: ``x`` is the modal form with Float coefficients.
-EXACT_FORM_MAX_COORDINATES = 8
-#: Largest first-order size (2n) the certified route takes: its roots cost about 1 s at
-#: degree 100 and grow like the cube of the degree.
-CERTIFIED_MAX_ORDER = 120
-#: Largest scene the general (non-symmetric) modal route takes: it holds the 2n x 2n
-#: first-order matrix densely and decomposes it four times (the motion and three perturbed
-#: copies for its error bound). Damped chains, one core: 200 coordinates 1 s, 400 6 s,
-#: 800 31 s; time grows like n³, memory like n². (The same number bounds the dense float64
-#: arrays of :func:`laplace_springs.numeric.first_order.scene_arrays`.)
-GENERAL_MODAL_MAX_COORDINATES = NUMERIC_MAX_COORDINATES
-#: Largest undamped or classically damped scene the symmetric modal route takes: it holds
-#: the n x n shapes (128 MB at 4,000) and a few arrays of modes x times. Measured on Rayleigh
-#: chains, 1,000 times, one core: 1,000 masses about 0.2 s (tridiagonal eigenproblem).
-#: Rayleigh-damped scenes (C = aK + bM, diagonal M) go further on the Chebyshev route.
-CLASSICAL_MAX_COORDINATES = SHAPES_MAX_COORDINATES
-#: "auto" solves Rayleigh-damped scenes (C = aK + bM exactly, a, b ≥ 0, diagonal positive
-#: M) from this many coordinates by Chebyshev expansion in M⁻¹K
-#: (:mod:`laplace_springs.numeric.chebyshev`: sparse products, no eigenvectors) instead of
-#: the symmetric eigenproblem, because its own error bound meets the target where the eigen
-#: route's does not. Measured with ``solve(scene).evaluate(times, return_error=True)``,
-#: 1,000 times on [0, 50], one core (benchmarks/bench_scaling.py scenes), bound relative to
-#: max |x|: Rayleigh chains of 20, 40, 64, 100 masses: Chebyshev 13–15 ms, bound 1.8e-14;
-#: eigen route 6–9 ms but bound 8.5e-14 at 20, then escalated to the certified route
-#: (0.4 s at 20, 0.9 s at 40) or, beyond its size, returned with bounds of 4.7e-10 (64) and
-#: 1.2e-9 (100). Random meshes: Chebyshev 27–31 ms with bounds ≤ 4.4e-14, eigen route
-#: 8–14 ms with 3.9e-9 to 5.4e-9 (or certified, 0.15–1.7 s). From 1,000 masses the
-#: Chebyshev route is also the faster (chain: 0.05 s against 0.12 s for the hand-written
-#: tridiagonal modal route).
-CHEBYSHEV_MIN_COORDINATES = 16
-#: Largest scene the Chebyshev route takes (the scene files' limit): it holds n x (N+1)
-#: vectors, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen (8 MB at 10,000 masses and N = 100).
-CHEBYSHEV_MAX_COORDINATES = 100_000
-#: "auto" solves scenes whose damping is not classical from this many coordinates on the
-#: krylov route (:mod:`laplace_springs.numeric.krylov`: Taylor steps of the sparse
-#: first-order system in double-double arithmetic, bounded through the energy, which the
-#: exact motion never increases) instead of the dense 2n x 2n eigenproblem. Measured on
-#: chains with one extra wall dashpot, 1,000 times on [0, 50], one core: 200 masses 0.86 s
-#: against 1.8 s (general modal route), 1,000 masses 2.7 s against 232 s and 762 MB.
-KRYLOV_AUTO_MIN_COORDINATES = 200
-#: Largest scene whose ``x`` on a modal route is a SymPy column (Float coefficients);
-#: beyond it ``x`` is a :class:`~laplace_springs.numeric.classical.ModalForm` (a sum over
-#: modes with coefficient vectors; ``x.as_matrix()`` builds the SymPy column on request):
-#: 12 rows of 24 terms are still readable, 200 rows of 400 terms are not.
-CLOSED_FORM_MAX_COORDINATES = 12
-#: Decimal digits of an escalated float64 evaluation on the exact route.
-ESCALATION_DIGITS = 20
-#: Times (in the scene's time unit) at which "auto" checks the modal route's own bound
-#: before it keeps the route.
-PROBE_TIMES = (0.0, 1.0)
 
 
 def check_target(target: float | None) -> float:
-    """The target to use: :data:`TARGET` for None, else a number in [1e-300, 1).
+    """The target to use: :attr:`~laplace_springs.limits.Limits.target` for None, else a number in [1e-300, 1).
 
     >>> check_target(None), check_target(1e-10)
     (1e-13, 1e-10)
     """
     if target is None:
-        return TARGET
+        return limits().target
     if isinstance(target, bool) or not isinstance(target, (int, float)) or not 1e-300 <= target < 1:
         raise ValueError(f"target must be a relative accuracy in [1e-300, 1), got {target!r}")
     return float(target)
@@ -164,7 +88,7 @@ class SceneFacts:
         exactly): the symmetric modal route takes it.
     rayleigh : bool
         Rayleigh damping C = aK + bM (a, b ≥ 0, exactly) with a diagonal, positive M: the
-        Chebyshev route takes it at any size up to CHEBYSHEV_MAX_COORDINATES.
+        Chebyshev route takes it at any size up to Limits.chebyshev_max_coordinates.
     krylov : bool
         Rational, unforced, diagonal positive M, K ⪰ 0 and C + Cᵀ ⪰ 0 proved exactly (by
         diagonal dominance): the krylov route can bound its motion through the energy.
@@ -182,22 +106,22 @@ class SceneFacts:
     @property
     def certified_ok(self) -> bool:
         return (self.rational and self.first_order and not self.forced and not self.symbolic
-                and 2 * self.n <= CERTIFIED_MAX_ORDER)
+                and 2 * self.n <= limits().certified_max_order)
 
     @property
     def modal_ok(self) -> bool:
         return (self.first_order and not self.forced and not self.symbolic
-                and self.n <= (CHEBYSHEV_MAX_COORDINATES if self.rayleigh
-                               else CLASSICAL_MAX_COORDINATES if self.classical
-                               else GENERAL_MODAL_MAX_COORDINATES))
+                and self.n <= (limits().chebyshev_max_coordinates if self.rayleigh
+                               else limits().classical_max_coordinates if self.classical
+                               else limits().general_modal_max_coordinates))
 
     @property
     def modal_kind(self) -> str:
-        """"chebyshev" (Rayleigh damping from CHEBYSHEV_MIN_COORDINATES, or beyond the eigen
+        """"chebyshev" (Rayleigh damping from Limits.chebyshev_min_coordinates, or beyond the eigen
         route's size), "classical" (the symmetric eigenproblem of size n) or "general" (2n,
         non-symmetric)."""
-        if self.rayleigh and (self.n >= CHEBYSHEV_MIN_COORDINATES
-                              or self.n > CLASSICAL_MAX_COORDINATES):
+        if self.rayleigh and (self.n >= limits().chebyshev_min_coordinates
+                              or self.n > limits().classical_max_coordinates):
             return "chebyshev"
         return "classical" if self.classical else "general"
 
@@ -237,21 +161,21 @@ def route_for(method: str, facts: SceneFacts) -> Decision:
         return Decision("exact", "auto: the scene has symbols; only the exact route keeps them")
     if facts.forced:
         return Decision("exact", "auto: the scene is forced; the exact route takes forcing")
-    if facts.certified_ok and facts.n <= CERTIFIED_AUTO_MAX_COORDINATES:
+    if facts.certified_ok and facts.n <= limits().certified_auto_max_coordinates:
         return Decision("certified", f"auto: {facts.n} coordinate(s) <= "
-                        f"CERTIFIED_AUTO_MAX_COORDINATES = {CERTIFIED_AUTO_MAX_COORDINATES}: "
+                        f"Limits.certified_auto_max_coordinates = {limits().certified_auto_max_coordinates}: "
                         "certified poles take milliseconds (the exact form is built when asked)")
-    if facts.n <= EXACT_AUTO_MAX_COORDINATES:
-        return Decision("exact", f"auto: {facts.n} coordinate(s) <= EXACT_AUTO_MAX_COORDINATES = "
-                        f"{EXACT_AUTO_MAX_COORDINATES} and entries the certified route does not "
+    if facts.n <= limits().exact_auto_max_coordinates:
+        return Decision("exact", f"auto: {facts.n} coordinate(s) <= Limits.exact_auto_max_coordinates = "
+                        f"{limits().exact_auto_max_coordinates} and entries the certified route does not "
                         "take: exact partial fractions take milliseconds")
     if facts.modal_ok and facts.modal_kind == "chebyshev":
         return Decision("modal", f"auto: {facts.n} coordinates, Rayleigh damping C = aK + bM "
                         "(exactly) and a diagonal M: Chebyshev expansion in M⁻¹K with sparse "
                         "products, every time at once (no eigenvectors)")
-    if facts.krylov and not facts.classical and facts.n >= KRYLOV_AUTO_MIN_COORDINATES:
-        return Decision("krylov", f"auto: {facts.n} coordinates >= KRYLOV_AUTO_MIN_COORDINATES = "
-                        f"{KRYLOV_AUTO_MIN_COORDINATES} and damping that is not classical: Taylor "
+    if facts.krylov and not facts.classical and facts.n >= limits().krylov_auto_min_coordinates:
+        return Decision("krylov", f"auto: {facts.n} coordinates >= Limits.krylov_auto_min_coordinates = "
+                        f"{limits().krylov_auto_min_coordinates} and damping that is not classical: Taylor "
                         "steps of the sparse first-order system, bounded through the energy "
                         "(no dense 2n x 2n eigenproblem)")
     if facts.modal_ok and facts.classical:
@@ -277,24 +201,24 @@ def _check_applicable(route: str, facts: SceneFacts) -> None:
         if facts.rayleigh:
             raise SceneError(
                 f"the Chebyshev route holds n x (N+1) vectors of a Rayleigh-damped scene; this "
-                f"scene has n = {facts.n:,} coordinates, more than CHEBYSHEV_MAX_COORDINATES = "
-                f"{CHEBYSHEV_MAX_COORDINATES:,}. Solve a coarser model")
+                f"scene has n = {facts.n:,} coordinates, more than Limits.chebyshev_max_coordinates = "
+                f"{limits().chebyshev_max_coordinates:,}. Solve a coarser model")
         if facts.classical:
             raise SceneError(
                 f"the modal route holds the n x n mode shapes of a classically damped scene "
                 f"whose damping is not Rayleigh's (C = aK + bM with a diagonal M: those go up to "
-                f"CHEBYSHEV_MAX_COORDINATES = {CHEBYSHEV_MAX_COORDINATES:,}); this scene has "
-                f"n = {facts.n:,} coordinates, more than CLASSICAL_MAX_COORDINATES = "
-                f"{CLASSICAL_MAX_COORDINATES:,}. Solve a coarser model")
+                f"Limits.chebyshev_max_coordinates = {limits().chebyshev_max_coordinates:,}); this scene has "
+                f"n = {facts.n:,} coordinates, more than Limits.classical_max_coordinates = "
+                f"{limits().classical_max_coordinates:,}. Solve a coarser model")
         raise SceneError(
             f"the general modal route (damping that is not classical) holds the scene as dense "
             f"float64 matrices and decomposes its 2n x 2n first-order matrix; this scene has "
-            f"n = {facts.n:,} coordinates, more than NUMERIC_MAX_COORDINATES = "
-            f"{GENERAL_MODAL_MAX_COORDINATES:,} (800 take about 30 s on one core, and the time "
+            f"n = {facts.n:,} coordinates, more than Limits.general_modal_max_coordinates = "
+            f"{limits().general_modal_max_coordinates:,} (800 take about 30 s on one core, and the time "
             f"grows like n³). Undamped and classically damped scenes (C M⁻¹K = K M⁻¹C) go up to "
-            f"CLASSICAL_MAX_COORDINATES = {CLASSICAL_MAX_COORDINATES:,}, Rayleigh-damped ones "
-            f"(C = aK + bM, diagonal M) up to CHEBYSHEV_MAX_COORDINATES = "
-            f"{CHEBYSHEV_MAX_COORDINATES:,}")
+            f"Limits.classical_max_coordinates = {limits().classical_max_coordinates:,}, Rayleigh-damped ones "
+            f"(C = aK + bM, diagonal M) up to Limits.chebyshev_max_coordinates = "
+            f"{limits().chebyshev_max_coordinates:,}")
     if route == "modal" and not facts.modal_ok:
         why = ("has symbols" if facts.symbolic else "is forced" if facts.forced
                else "has no first-order form (massless nodes not held by dashpots, or a "
@@ -305,12 +229,12 @@ def _check_applicable(route: str, facts: SceneFacts) -> None:
                else "has irrational entries" if not facts.rational
                else "has no first-order form (massless nodes not held by dashpots, or a "
                "singular mass matrix)" if not facts.first_order
-               else f"is too large (2n = {2 * facts.n} > CERTIFIED_MAX_ORDER = {CERTIFIED_MAX_ORDER})")
+               else f"is too large (2n = {2 * facts.n} > Limits.certified_max_order = {limits().certified_max_order})")
         raise SceneError(f"the certified route cannot take this scene: it {why}")
 
 
 def after_modal_probe(facts: SceneFacts, worst: float, target: float) -> Decision | None:
-    """For "auto": a better route when the modal bound at :data:`PROBE_TIMES` misses the
+    """For "auto": a better route when the modal bound at :attr:`~laplace_springs.limits.Limits.probe_times` misses the
     target (``worst`` is the largest bound/scale ratio found), else None (keep modal).
 
     >>> facts = SceneFacts(20, False, False, True, True)

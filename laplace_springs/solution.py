@@ -33,6 +33,7 @@ from .exact.assembly import Piece
 from .exact.jumps import InitialJump
 from .exact.real_terms import Term
 from .exact.resolvent import Resolvent
+from .limits import limits
 from .model.errors import SceneError
 from .model.scene import Scene
 from .model.symbols import TIME
@@ -42,8 +43,6 @@ from .output.latex import matrix_latex
 from .output.plots import plot_energy, plot_motion, plot_phase
 from .output.text import formula_lines, summary_lines
 from .policy import (
-    EXACT_FORM_MAX_COORDINATES,
-    MIN_RELATIVE_BOUND,
     check_target,
     escalate_columns,
     reference_scale,
@@ -235,7 +234,7 @@ class Solution(ABC):
             values[:, columns[take]] = other[:, take]
             bounds[:, columns[take]] = other_bounds[:, take]
         _check_float_result(values, bounds, T)
-        bounds = np.maximum(bounds, MIN_RELATIVE_BOUND * np.abs(values)) + _TINY
+        bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
         return (values, bounds) if return_error else values
 
     def verify(self, *, samples: Sequence[Any] = DEFAULT_SAMPLES,
@@ -282,10 +281,10 @@ class Solution(ABC):
 
     def __str__(self) -> str:
         """The title and x(t) with named rates, frequencies and coefficients (their values and
-        exact definitions under "where"); beyond EXACT_FORM_MAX_COORDINATES coordinates, the
+        exact definitions under "where"); beyond Limits.exact_form_max_coordinates coordinates, the
         modal summary instead (see :mod:`laplace_springs.output.text`)."""
         lines = [self.scene.title] if self.scene.title else []
-        if self.scene.n > EXACT_FORM_MAX_COORDINATES and not self.scene.free_symbols:
+        if self.scene.n > limits().exact_form_max_coordinates and not self.scene.free_symbols:
             lines.append(f"{self.method} route: {self.reason}")
             lines += summary_lines(self.scene)
         else:
@@ -307,12 +306,12 @@ class Solution(ABC):
         ------
         ValueError
             When the scene is too large for an exact form (more than
-            :data:`~laplace_springs.policy.EXACT_FORM_MAX_COORDINATES` coordinates).
+            :attr:`~laplace_springs.limits.Limits.exact_form_max_coordinates` coordinates).
         """
         exact = self._exact_form
         if exact is None:
-            raise ValueError(f"the exact form is built up to EXACT_FORM_MAX_COORDINATES = "
-                             f"{EXACT_FORM_MAX_COORDINATES} coordinates; this scene has "
+            raise ValueError(f"the exact form is built up to Limits.exact_form_max_coordinates = "
+                             f"{limits().exact_form_max_coordinates} coordinates; this scene has "
                              f"{self.scene.n}: use x (Float coefficients) and evaluate()")
         return exact
 

@@ -17,7 +17,7 @@ import pytest
 
 import laplace_springs as ls
 from laplace_springs.bench.reference import reference_motion_arb
-from laplace_springs.policy import TARGET
+from laplace_springs.limits import limits
 
 ROUTES = ("exact", "modal", "certified")
 
@@ -149,7 +149,7 @@ def test_auto_keeps_the_modal_route_for_an_eight_mass_damped_chain():
     scene = chain(8, springs=("1",), dashpots=("1/20",))
     sol = ls.solve(scene)
     assert sol.method == "modal"
-    check_contract(sol, scene, np.linspace(0, 20, 9), tolerance=TARGET)
+    check_contract(sol, scene, np.linspace(0, 20, 9), tolerance=limits().target)
 
 
 # ------------------------------------------------------------------ the contract on every route
@@ -171,7 +171,7 @@ def test_every_route_honours_the_contract(name, method):
     assert sol.method == method and isinstance(sol, ls.Solution)
     times = np.array([0.0, 0.37, 2.0, 15.0, 300.0])
     values, _, relative = check_contract(sol, scene, times)
-    assert relative.max() <= TARGET or sol.method == "modal"
+    assert relative.max() <= limits().target or sol.method == "modal"
     for k, tv in enumerate(times):  # one time at a time: the same values, up to the rounding
         alone = sol.evaluate([tv])[:, 0]  # of vectorised exp/cos and BLAS kernels of other shapes
         assert np.max(np.abs(alone - values[:, k])) <= 1e-14 * np.max(np.abs(values[:, k]))
@@ -254,7 +254,7 @@ def test_verify_has_one_signature():
 
 def test_auto_picks_the_fastest_route_and_keeps_the_exact_form_at_hand():
     small = ls.solve(ls.load_scene("three-dashpots"))  # rational, 2 coordinates
-    assert small.method == "certified" and "CERTIFIED_AUTO_MAX_COORDINATES" in small.reason
+    assert small.method == "certified" and "Limits.certified_auto_max_coordinates" in small.reason
     exact = ls.solve(ls.load_scene("three-dashpots"), method="exact")
     assert small.x == exact.x and small.g_basis == exact.g_basis  # built when asked
     forced = ls.solve(ls.load_scene("vertical-pair").with_forcing(["cos(t)", 0]))

@@ -24,9 +24,9 @@ from hypothesis import strategies as st
 
 from laplace_springs import Scene, SceneError, solve
 from laplace_springs.bench.reference import reference_motion_arb
+from laplace_springs.limits import limits
 from laplace_springs.model.numbers import parse_expression
 from laplace_springs.model.symbols import TIME
-from laplace_springs.numeric.first_order import NUMERIC_MAX_COORDINATES
 
 SETTINGS = {"deadline": None, "suppress_health_check": [HealthCheck.too_slow]}
 
@@ -178,7 +178,7 @@ def test_a_failing_float64_eigen_solver_is_a_scene_error_naming_the_way_out():
 
 
 def test_a_scene_beyond_the_numeric_size_limit_is_refused_at_once_for_that_reason():
-    n = NUMERIC_MAX_COORDINATES + 1
+    n = limits().general_modal_max_coordinates + 1
     masses = {f"m{i}": 1 for i in range(1, n + 1)}
     nodes = ["wall", *masses, "wall"]
     springs = {f"k{i}": (nodes[i], nodes[i + 1], 1) for i in range(n + 1)}
@@ -187,7 +187,7 @@ def test_a_scene_beyond_the_numeric_size_limit_is_refused_at_once_for_that_reaso
     scene = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1},
                                   dashpots={"c": ("ground", "m1", "sqrt(2)/10")})
     started = time.perf_counter()
-    with pytest.raises(SceneError, match=f"more than NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,}"):
+    with pytest.raises(SceneError, match=f"more than Limits.general_modal_max_coordinates = {limits().general_modal_max_coordinates:,}"):
         solve(scene)  # "auto": not the exact route's misleading refusal
     assert time.perf_counter() - started < 10  # a guard against a hang
     rational = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1},

@@ -30,9 +30,10 @@ import sympy as sp
 from flint import ctx, fmpq, fmpq_poly
 
 from ..exact.resolvent import resolvent
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import declare_parameters, to_exact
-from ..model.scene import MAX_MATRIX_INPUT_SIZE, Scene
+from ..model.scene import Scene
 from ..model.symbols import S, lam
 
 __all__ = ["transfer_function", "poles_and_zeros", "from_state_space"]
@@ -263,8 +264,8 @@ def from_state_space(A: Any, B: Any = None, C: Any = None, D: Any = None, *,
     size = len(rows)
     if size == 0 or size % 2 or any(len(row) != size for row in rows):
         raise SceneError(f"A must be square with an even size 2n (state (x, x')), got {size} rows")
-    if size > 2 * MAX_MATRIX_INPUT_SIZE:
-        raise SceneError(f"A is {size} x {size}; at most {2 * MAX_MATRIX_INPUT_SIZE} square is read "
+    if size > 2 * limits().max_matrix_input_size:
+        raise SceneError(f"A is {size} x {size}; at most {2 * limits().max_matrix_input_size} square is read "
                          "entry by entry")
     n = size // 2
     declared = declare_parameters(parameters, A, B, C, D, x0, v0)

@@ -18,6 +18,7 @@ import sympy as sp
 
 from ..exact.algebraic import AlgebraicRoot, numeric_value
 from ..exact.resolvent import resolvent
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import generic_values
 from ..model.scene import Scene
@@ -25,12 +26,8 @@ from ..model.symbols import lam
 from ..numeric.classical import float_eigenpairs
 from ..numeric.first_order import is_rational
 
-__all__ = ["Mode", "modes", "float_modes", "MODES_EXACT_MAX_COORDINATES"]
+__all__ = ["Mode", "modes", "float_modes"]
 
-#: ``modes`` is exact up to this many coordinates for rational scenes; larger or irrational
-#: numeric scenes get float64 modes (Float values; the symmetric eigenproblem of size n
-#: where the damping is classical): a 200-mass chain takes a fraction of a second.
-MODES_EXACT_MAX_COORDINATES = 40
 
 ModeKind = Literal["oscillatory", "real", "rigid"]
 
@@ -138,7 +135,7 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
     >>> mode.natural_frequency, mode.damping_ratio, mode.damped_frequency
     (2, 1/10, 3*sqrt(11)/5)
     """
-    if not scene.free_symbols and (scene.n > MODES_EXACT_MAX_COORDINATES or not is_rational(scene)):
+    if not scene.free_symbols and (scene.n > limits().modes_exact_max_coordinates or not is_rational(scene)):
         return float_modes(scene)
     R = resolvent(scene)
     if not scene.is_damped:
@@ -156,7 +153,7 @@ _MU = sp.Symbol("mu")
 def float_modes(scene: Scene) -> tuple[Mode, ...]:
     """The modes of a numeric scene from float64 eigenpairs, ordered by natural frequency.
 
-    What :func:`modes` returns beyond :data:`MODES_EXACT_MAX_COORDINATES` coordinates or for
+    What :func:`modes` returns beyond :attr:`~laplace_springs.limits.Limits.modes_exact_max_coordinates` coordinates or for
     irrational entries: the symmetric eigenproblem of size n where the damping is classical
     (real shapes), else the 2n x 2n first-order matrix. Values are SymPy Floats (15 digits).
     A zero eigenvalue of the symmetric problem (|λ|² ≤ 1e-13 of the largest) is one rigid

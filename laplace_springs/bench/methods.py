@@ -34,7 +34,7 @@ from ..exact.resolvent import resolvent
 from ..model.scene import Scene
 from ..model.symbols import TIME, lam
 from ..numeric.first_order import first_order_system, float_matrix
-from ..solve import solve
+from ..solving import solve
 
 __all__ = ["Problem", "Outcome", "Method", "Unavailable", "TimeLimitExceeded", "all_methods",
            "QUICK_METHODS", "missing_modules"]

@@ -404,9 +404,9 @@ def exact_motion(scene: Scene) -> ExactMotion:
         At once (before the resolvent is built, see
         :func:`~laplace_springs.exact.screening.screen_scene`) or right after Δ(λ) is
         factored, when Δ has an irreducible factor above
-        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` or one of
+        :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` or one of
         degree ≥ 3 with irrational coefficients, that the solution needs; or when the scene
-        has more than :data:`~laplace_springs.exact.screening.MAX_EXACT_COORDINATES`
+        has more than :attr:`~laplace_springs.limits.Limits.max_exact_coordinates`
         coordinates.
     """
     screen_scene(scene)

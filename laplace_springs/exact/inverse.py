@@ -380,7 +380,7 @@ def inverse_laplace(F: sp.Expr | str, s: sp.Symbol, t: sp.Symbol, *, parameters:
     InversionError
         At once, before any residue is computed: F is not rational in s and e^{-τs}
         (e.g. sqrt(s), e^{-s²}), or has an irreducible factor of degree above
-        :data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` (24):
+        :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` (24):
         the message names the degree. (A symbolic factor of degree ≥ 3 has no
         closed-form roots: without delays its part is a sum over its roots, a
         ``RootSum``; with delays or a period it is refused.) For exponentials: a time advance e^{+τs} (no

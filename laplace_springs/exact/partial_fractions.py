@@ -21,7 +21,7 @@ in s²). A factor of degree ≥ 3 with rational coefficients has exact algebraic
 real and imaginary parts of the residues cost about d⁴ (measured for s^d + s + 1, one
 transform: d = 12 0.18 s, 16 0.37 s, 24 1.2 s, 30 2.9 s, 40 9.9 s), and a scene pays it
 once per coordinate (a damped 8-mass chain with an irreducible Δ of degree 16: 4 s).
-Beyond :data:`MAX_EXACT_FACTOR_DEGREE` the inversion is refused at once, as is a factor
+Beyond :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` the inversion is refused at once, as is a factor
 of degree ≥ 3 with irrational coefficients: :func:`closed_form_obstacle` says which,
 before any residue is computed (``closed_form=True``). A factor of degree ≥ 3 with
 symbolic coefficients (an even quartic excepted) has no closed-form roots either; with
@@ -42,23 +42,17 @@ from math import factorial
 
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
 from .root_sums import Condition, SumOverRoots, root_sum_weights
 
 __all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
-           "MAX_EXACT_FACTOR_DEGREE", "closed_form_obstacle", "check_closed_form",
+           "closed_form_obstacle", "check_closed_form",
            "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of", "GenericCondition",
            "denominator_conditions"]
 
-#: Largest degree of an irreducible factor with rational coefficients whose exact real
-#: terms are built (``inverse_laplace``, ``solve(scene, method="exact")``). The cost grows
-#: like the fourth power of the degree (see the module notes): 24 keeps one transform
-#: near a second and a forced 12-coordinate scene (Δ of degree 24, which only the exact
-#: route takes) near 15 s; a degree-200 factor would take hours. The numeric
-#: routes evaluate any degree: ``solve(scene, method="modal")`` or ``"certified"``.
-MAX_EXACT_FACTOR_DEGREE = 24
 
 
 @dataclass(frozen=True)
@@ -202,17 +196,17 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     >>> print(closed_form_obstacle(sp.Poly(s**4 + a*s + 1, s)))   # doctest: +ELLIPSIS
     irreducible factor of degree 4 has symbolic coefficients (a*s + s**4 + 1): ...
     >>> print(closed_form_obstacle(sp.Poly(s**200 + 2*s + 2, s)))   # doctest: +ELLIPSIS
-    irreducible factor of degree 200 > MAX_EXACT_FACTOR_DEGREE = 24: ...
+    irreducible factor of degree 200 > Limits.max_exact_factor_degree = 24: ...
     """
     degree = q.degree()
     if degree <= 2:
         return None
     coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
     if all(c.is_Rational for c in coeffs):
-        if degree <= MAX_EXACT_FACTOR_DEGREE:
+        if degree <= limits().max_exact_factor_degree:
             return None
-        return (f"irreducible factor of degree {degree} > MAX_EXACT_FACTOR_DEGREE = "
-                f"{MAX_EXACT_FACTOR_DEGREE}: exact terms cost about the fourth power of the "
+        return (f"irreducible factor of degree {degree} > Limits.max_exact_factor_degree = "
+                f"{limits().max_exact_factor_degree}: exact terms cost about the fourth power of the "
                 f"degree (degree 16: 0.4 s, 24: 1.2 s, 40: 10 s, {degree}: far longer); the numeric routes "
                 "evaluate any degree: ls.solve(scene, method='modal') or method='certified'")
     if is_symbolic_biquadratic(q):

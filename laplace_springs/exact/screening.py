@@ -3,7 +3,7 @@
 The exact route builds the adjugate of λ²M + λC + K, factors Δ(λ) over the field of the
 coefficients and computes residues in the number field of each factor. A rational
 factor of degree above
-:data:`~laplace_springs.exact.partial_fractions.MAX_EXACT_FACTOR_DEGREE` cannot finish
+:attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` cannot finish
 there (its exact terms cost about the fourth power of the degree), nor can a symbolic
 scene whose Δ has a factor that large (its adjugate alone is out of reach). The
 partial-fraction engine refuses the first right after factoring; :func:`screen_scene`
@@ -16,7 +16,7 @@ terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
   (milliseconds for 2 coordinates, under a second for 40).
 * Specialising parameters is a ring homomorphism, so each irreducible factor Q of Δ over
   ℚ(params) specialises to a product of irreducible factors of Δ(p) over ℚ: an
-  irreducible factor f of Δ(p) of degree > MAX_EXACT_FACTOR_DEGREE lies in a factor Q
+  irreducible factor f of Δ(p) of degree > Limits.max_exact_factor_degree lies in a factor Q
   of Δ at least that large.
 * Q's principal parts vanish (the pole cancels and nothing is refused) only if Q^m
   divides every numerator of every piece; then f divides every numerator at p. So a
@@ -28,7 +28,7 @@ terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
 Each refusal is therefore one the engine would make (or, for a symbolic scene, one
 whose adjugate would not finish); anything the screen cannot decide (entries that are
 not rational functions of the parameters, Δ(p) ≡ 0) goes on to the engine, which
-decides exactly. Scenes above :data:`MAX_EXACT_COORDINATES` are refused on size alone.
+decides exactly. Scenes above :attr:`~laplace_springs.limits.Limits.max_exact_coordinates` are refused on size alone.
 """
 
 from __future__ import annotations
@@ -36,21 +36,15 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import InversionError
 from ..model.forcing import input_transform
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
-from .partial_fractions import MAX_EXACT_FACTOR_DEGREE
 
-__all__ = ["MAX_EXACT_COORDINATES", "screen_scene"]
+__all__ = ["screen_scene"]
 
-#: Largest scene (coordinates) the exact route takes. The fraction-free adjugate of
-#: λ²M + λC + K costs about n⁴ (measured on damped chains: 12 coordinates 0.7 s, 20 3 s,
-#: 30 14 s), and a scene above MAX_EXACT_FACTOR_DEGREE/2 = 12 coordinates gets this far
-#: only when Δ(λ) splits into small factors (decoupled or symmetric parts). The numeric
-#: routes (``method="modal"`` or ``"certified"``) take larger free numeric scenes.
-MAX_EXACT_COORDINATES = 40
 
 _Pencil = tuple[flint.fmpq_mat, flint.fmpq_mat, flint.fmpq_mat]
 _Vector = list[flint.fmpq_poly]
@@ -214,16 +208,16 @@ def screen_scene(scene: Scene) -> None:
     >>> screen_scene(scene)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 26 > MAX_EXACT_FACTOR_DEGREE = 24: ...
+    laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 26 > Limits.max_exact_factor_degree = 24: ...
     """
     n = scene.n
-    if n > MAX_EXACT_COORDINATES:
+    if n > limits().max_exact_coordinates:
         raise InversionError(
-            f"the exact route takes at most MAX_EXACT_COORDINATES = {MAX_EXACT_COORDINATES} "
+            f"the exact route takes at most Limits.max_exact_coordinates = {limits().max_exact_coordinates} "
             f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
             f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
             "larger free numeric scenes, within their own limits")
-    if 2 * n <= MAX_EXACT_FACTOR_DEGREE:
+    if 2 * n <= limits().max_exact_factor_degree:
         return  # no factor of Δ can be too large
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
     everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
@@ -238,7 +232,7 @@ def screen_scene(scene: Scene) -> None:
         return
     delta, pieces = found
     _, factors = delta.factor()
-    stays = [f.degree() for f, _ in factors if f.degree() > MAX_EXACT_FACTOR_DEGREE
+    stays = [f.degree() for f, _ in factors if f.degree() > limits().max_exact_factor_degree
              and any(N % f != 0 for numerators in pieces for N in numerators)]
     if not stays:
         return
@@ -246,7 +240,7 @@ def screen_scene(scene: Scene) -> None:
         unforced = " (for the free motion: they take no forcing)" if scene.is_forced else ""
         raise InversionError(
             f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {max(stays)} > "
-            f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}: exact terms cost about the "
+            f"Limits.max_exact_factor_degree = {limits().max_exact_factor_degree}: exact terms cost about the "
             "fourth power of the degree (degree 24: 1.2 s per coordinate, 40: 10 s); the "
             "numeric routes evaluate any degree: ls.solve(scene, method='modal') or "
             f"method='certified'{unforced}")
@@ -255,7 +249,7 @@ def screen_scene(scene: Scene) -> None:
     shown = f"{largest}" if largest == 2 * n else f"at least {largest}"
     raise InversionError(
         f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} "
-        f"> MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE} (seen at "
+        f"> Limits.max_exact_factor_degree = {limits().max_exact_factor_degree} (seen at "
         f"generic values of {names}): too large for exact terms whether its coefficients "
         f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
         "(method='modal' or 'certified'), which evaluate any degree")

@@ -43,10 +43,11 @@ from math import comb
 
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import InversionError
 from .real_terms import Term
 
-__all__ = ["DelaySplit", "split_delays", "MAX_DELAY_POWER", "shift_terms", "combine_terms", "difference_solution",
+__all__ = ["DelaySplit", "split_delays", "shift_terms", "combine_terms", "difference_solution",
            "proved_zero", "order_delays", "is_resonant"]
 
 _HYPERBOLIC = (sp.sinh, sp.cosh, sp.tanh, sp.coth, sp.sech, sp.csch)
@@ -127,10 +128,6 @@ def _units(delays: Iterable[sp.Expr]) -> list[tuple[sp.Expr, list[sp.Expr]]]:
     return out
 
 
-#: Largest power of z = e^{-us} written for commensurate delays with common unit u. Delays
-#: such as 1 and 1.000001 (unit 10⁻⁶) would make polynomials of degree 10⁶: in the
-#: denominator they are refused, in the numerator such a delay gets its own z.
-MAX_DELAY_POWER = 512
 
 
 def _generators(delays: set[sp.Expr], in_denominator: set[sp.Expr]
@@ -143,22 +140,22 @@ def _generators(delays: set[sp.Expr], in_denominator: set[sp.Expr]
 
     classes = _units(delays)
     found = powers(classes)
-    if all(abs(n) <= MAX_DELAY_POWER for _, n in found.values()):
+    if all(abs(n) <= limits().max_delay_power for _, n in found.values()):
         return [unit for unit, _ in classes], found
     classes = _units(in_denominator)
     found = powers(classes)
     for j, n in found.values():
-        if abs(n) > MAX_DELAY_POWER:
+        if abs(n) > limits().max_delay_power:
             unit = classes[j][0]
             raise InversionError(
                 f"the delays {', '.join(str(abs(d)) for d in classes[j][1])} in the denominator have "
                 f"the common unit {unit}: a polynomial of degree {abs(n)} in exp(-{unit}*s), above "
-                f"MAX_DELAY_POWER = {MAX_DELAY_POWER}")
+                f"Limits.max_delay_power = {limits().max_delay_power}")
     units = [unit for unit, _ in classes]
     for tau in delays - set(found):
         for j, unit in enumerate(units):
             ratio = sp.cancel(tau / unit)
-            if ratio.is_Integer and abs(ratio) <= MAX_DELAY_POWER:
+            if ratio.is_Integer and abs(ratio) <= limits().max_delay_power:
                 found[tau] = (j, int(ratio))
                 break
         else:  # a delay of the numerator alone: its own generator

@@ -1,8 +1,18 @@
-"""Exceptions raised by laplace_springs."""
+"""Exceptions raised by laplace_springs, one class per cause.
+
+* :class:`SceneError`: the input is wrong (a malformed entry, a negative mass, text that
+  is not a number). The message names the entry and its value.
+* :class:`LimitError`: the input is fine but exceeds a limit of the package (a size, a
+  memory or time budget; see :mod:`laplace_springs.limits`). The message names the limit
+  and the way out. Both are ``ValueError`` subclasses, so ``except ValueError`` code
+  keeps working.
+* :class:`InternalError`: the package failed where it should not have; a bug to report.
+* :class:`InversionError`: a transform cannot be inverted in the requested form.
+"""
 
 from __future__ import annotations
 
-__all__ = ["SceneError", "InversionError"]
+__all__ = ["SceneError", "LimitError", "InternalError", "InversionError"]
 
 
 class SceneError(ValueError):
@@ -11,6 +21,18 @@ class SceneError(ValueError):
     The message names the offending entry and its value, for example
     ``mass 'm2' must be positive, got -1``.
     """
+
+
+class LimitError(ValueError):
+    """A request exceeds a limit of the package (size, memory, time), not a mistake in it.
+
+    The message names the limit (a field of :class:`laplace_springs.limits.Limits`) and
+    the way out, for example evaluating in chunks or solving a coarser model.
+    """
+
+
+class InternalError(RuntimeError):
+    """The package failed in a way it should not (please report it with the scene)."""
 
 
 class InversionError(ValueError):

@@ -35,6 +35,7 @@ from types import MappingProxyType
 import numpy
 import sympy
 
+from ..limits import limits
 from .errors import SceneError
 from .symbols import TIME
 
@@ -43,10 +44,7 @@ __all__ = [
     "CONSTANTS",
     "NOT_FINITE_REAL",
     "ASSUMPTIONS",
-    "MAX_DIGITS",
-    "MAX_EXPRESSION_LENGTH",
     "MAX_MAGNITUDE",
-    "MAX_NESTING_DEPTH",
     "TIME",
     "declare_parameters",
     "generic_values",
@@ -78,16 +76,7 @@ CONSTANTS: Mapping[str, sympy.Expr] = MappingProxyType({"pi": sympy.pi, "E": sym
 NOT_FINITE_REAL = frozenset({"nan", "inf", "infinity", "oo", "zoo", "i", "j"})
 
 
-#: Longest text accepted by :func:`parse_expression`, in characters.
-MAX_EXPRESSION_LENGTH = 10_000
-#: Deepest nesting of parentheses, calls, signs and powers accepted.
-MAX_NESTING_DEPTH = 100
-#: Largest decimal exponent of a number literal (``1e4000`` is refused).
-MAX_LITERAL_EXPONENT = 4_000
 
-#: Most significant digits of a number: of a literal, and of the numerator and the
-#: denominator of an exact value (``1.000...0001`` with 2,000 digits is refused).
-MAX_DIGITS = 1_000
 #: Largest magnitude of a number; nonzero numbers must also exceed ``1/MAX_MAGNITUDE``.
 #: Float64 evaluation cannot honour more (``exp(10**6)`` or a 4,001-digit stiffness
 #: is refused before any work is done).
@@ -108,7 +97,7 @@ MAX_ARGUMENT = MappingProxyType({"exp": 10_000, "sinh": 10_000, "cosh": 10_000,
                                  "sin": 10**300, "cos": 10**300})
 
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
-_MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
+_MAX_BITS = int(limits().max_digits * math.log2(10)) + 1
 _REPR = reprlib.Repr()
 _REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist = 3, 80, 80, 8
 
@@ -192,11 +181,11 @@ def _literal_value(token: _Token) -> sympy.Rational:
     """The exact rational a number literal denotes."""
     mantissa, _, exponent = token.text.lower().partition("e")
     digits = len(mantissa.replace(".", "").lstrip("0"))
-    if digits > MAX_DIGITS:
-        raise _ParseError(f"number with {digits} digits, more than {MAX_DIGITS}", token.column)
-    if exponent and abs(int(exponent)) > MAX_LITERAL_EXPONENT:
+    if digits > limits().max_digits:
+        raise _ParseError(f"number with {digits} digits, more than {limits().max_digits}", token.column)
+    if exponent and abs(int(exponent)) > limits().max_literal_exponent:
         raise _ParseError(
-            f"exponent {exponent} is beyond +-{MAX_LITERAL_EXPONENT}", token.column
+            f"exponent {exponent} is beyond +-{limits().max_literal_exponent}", token.column
         )
     value = fractions.Fraction(token.text)
     return sympy.Rational(value.numerator, value.denominator)
@@ -207,8 +196,8 @@ def _checked_power(base: sympy.Expr, exponent: sympy.Expr, column: int) -> sympy
     if base.is_Rational and exponent.is_Rational and abs(base) not in (0, 1):
         size = max(abs(base.p).bit_length(), base.q.bit_length())
         if abs(exponent) * size > _MAX_BITS + size:
-            raise _ParseError(f"power {base}**{exponent} would have more than {MAX_DIGITS} digits "
-                              f"(the limit MAX_DIGITS)", column)
+            raise _ParseError(f"power {base}**{exponent} would have more than {limits().max_digits} digits "
+                              f"(the limit Limits.max_digits)", column)
     return sympy.Pow(base, exponent)
 
 
@@ -251,8 +240,8 @@ class _Parser:
     def _nested(self) -> Iterator[None]:
         """Count one level of nesting while the body runs."""
         self.depth += 1
-        if self.depth > MAX_NESTING_DEPTH:
-            raise _ParseError(f"nesting deeper than {MAX_NESTING_DEPTH}", self.current.column)
+        if self.depth > limits().max_nesting_depth:
+            raise _ParseError(f"nesting deeper than {limits().max_nesting_depth}", self.current.column)
         yield
         self.depth -= 1
 
@@ -382,13 +371,13 @@ def parse_expression(
     SceneError
         On any text outside the grammar, naming ``entry``, the text and the column;
         on an undeclared name, a division by zero, a non-finite result, or a number
-        beyond the limits :data:`MAX_DIGITS` and :data:`MAX_MAGNITUDE`.
+        beyond the limits :attr:`~laplace_springs.limits.Limits.max_digits` and :data:`MAX_MAGNITUDE`.
 
     Notes
     -----
     The parser is hand-written and builds SymPy objects directly; the text is
-    never evaluated. Text longer than :data:`MAX_EXPRESSION_LENGTH` characters
-    or nested deeper than :data:`MAX_NESTING_DEPTH` is refused.
+    never evaluated. Text longer than :attr:`~laplace_springs.limits.Limits.max_expression_length` characters
+    or nested deeper than :attr:`~laplace_springs.limits.Limits.max_nesting_depth` is refused.
 
     Examples
     --------
@@ -410,9 +399,9 @@ def parse_expression(
     """
     if not isinstance(text, str):
         raise SceneError(f"{entry}: expected text, got {text!r}")
-    if len(text) > MAX_EXPRESSION_LENGTH:
+    if len(text) > limits().max_expression_length:
         raise SceneError(
-            f"{entry}: expression has {len(text)} characters, more than {MAX_EXPRESSION_LENGTH}"
+            f"{entry}: expression has {len(text)} characters, more than {limits().max_expression_length}"
         )
     names = {"t": TIME, **(variables or {})}
     try:
@@ -466,11 +455,11 @@ def _order(number: sympy.Expr) -> str:
 
 
 def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.Expr:
-    """``value`` unless a number in it exceeds :data:`MAX_DIGITS` or :data:`MAX_MAGNITUDE`."""
+    """``value`` unless a number in it exceeds :attr:`~laplace_springs.limits.Limits.max_digits` or :data:`MAX_MAGNITUDE`."""
     for rational in value.atoms(sympy.Rational):
         if not _digits_ok(rational):
-            raise SceneError(f"{entry}: {shown_value} has a number of more than {MAX_DIGITS} digits "
-                             f"(the limit MAX_DIGITS)")
+            raise SceneError(f"{entry}: {shown_value} has a number of more than {limits().max_digits} digits "
+                             f"(the limit Limits.max_digits)")
     if value.is_Rational and value != 0 and 1 / MAX_MAGNITUDE <= abs(value) <= MAX_MAGNITUDE:
         return value
     magnitude = _magnitude(value)
@@ -509,7 +498,7 @@ def _decimal_to_rational(value: decimal.Decimal, entry: str, shown: object) -> s
     exponent = value.as_tuple().exponent  # 'n', 'N' or 'F' for NaN and infinities
     if not value.is_finite() or not isinstance(exponent, int):
         raise SceneError(f"{entry}: expected a finite number, got {shown!r}")
-    if abs(exponent) > MAX_LITERAL_EXPONENT + 100:
+    if abs(exponent) > limits().max_literal_exponent + 100:
         raise SceneError(f"{entry}: exponent of {shown!r} is too large to hold exactly")
     return _fraction_to_rational(fractions.Fraction(value))
 
@@ -554,7 +543,7 @@ def to_exact(
     ------
     SceneError
         For booleans, NaN, infinities, complex numbers, text that does not parse or
-        names an undeclared parameter, numbers beyond :data:`MAX_DIGITS` or
+        names an undeclared parameter, numbers beyond :attr:`~laplace_springs.limits.Limits.max_digits` or
         :data:`MAX_MAGNITUDE`, and any other type; the message names ``entry`` and
         the value.
 
@@ -586,7 +575,7 @@ def _exact_of_object(value: object, entry: str) -> sympy.Expr:
     if isinstance(value, numbers.Integral):
         if int(value).bit_length() > _MAX_BITS:
             raise SceneError(f"{entry}: an integer of {int(value).bit_length()} bits has more than "
-                             f"{MAX_DIGITS} digits (the limit MAX_DIGITS)")
+                             f"{limits().max_digits} digits (the limit Limits.max_digits)")
         return sympy.Integer(int(value))
     if isinstance(value, fractions.Fraction):
         return _fraction_to_rational(value)

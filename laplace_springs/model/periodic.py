@@ -21,18 +21,16 @@ from typing import Any
 
 import sympy as sp
 
+from ..limits import limits
 from .errors import SceneError
 from .numbers import parse_expression, to_exact
 from .symbols import TIME
 
 __all__ = ["Periodic", "periodic", "square_wave", "sawtooth", "pulse_train", "common_period",
-           "PERIODIC_FUNCTIONS", "MAX_PERIOD_RATIO"]
+           "PERIODIC_FUNCTIONS"]
 
 t = TIME
 
-#: Largest ratio P/T between a common period P and one input's period T (inputs of
-#: periods 2 and 3 repeat together with period 6, ratios 3 and 2).
-MAX_PERIOD_RATIO = 256
 
 
 def _period(value: Any, entry: str = "period") -> sp.Expr:
@@ -231,13 +229,13 @@ PERIODIC_FUNCTIONS: dict[str, Callable[..., sp.Expr]] = {"periodic": _text_perio
 
 
 def common_period(periods: list[sp.Expr]) -> sp.Expr:
-    """The least common period P of exact periods (each P/T an integer ≤ MAX_PERIOD_RATIO).
+    """The least common period P of exact periods (each P/T an integer ≤ Limits.max_period_ratio).
 
     Raises
     ------
     SceneError
         For incommensurate periods (1 and √2: the sum is not periodic) or a ratio above
-        :data:`MAX_PERIOD_RATIO`.
+        :attr:`~laplace_springs.limits.Limits.max_period_ratio`.
 
     Examples
     --------
@@ -256,7 +254,7 @@ def common_period(periods: list[sp.Expr]) -> sp.Expr:
     denominator = functools.reduce(sp.igcd, [r.q for r in ratios], 0)
     P = base * sp.Rational(numerator, denominator)
     for T in periods:
-        if P / T > MAX_PERIOD_RATIO:
+        if limits().max_period_ratio < P / T:
             raise SceneError(f"the common period {P} of the periodic inputs is {P / T} times the "
-                             f"period {T}, above MAX_PERIOD_RATIO = {MAX_PERIOD_RATIO}")
+                             f"period {T}, above Limits.max_period_ratio = {limits().max_period_ratio}")
     return P

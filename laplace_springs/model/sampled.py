@@ -34,13 +34,11 @@ from .errors import SceneError
 from .numbers import shown
 from .text_files import read_text_file
 
-__all__ = ["KINDS", "MAX_CSV_BYTES", "Sampled", "sampled", "sampled_from_csv",
+__all__ = ["KINDS", "Sampled", "sampled", "sampled_from_csv",
            "sampled_entries", "formula_part", "resolve_csv_entries"]
 
 #: The interpolants: piecewise linear, or piecewise constant (zero-order hold).
 KINDS = ("linear", "zoh")
-#: Largest CSV file read (64 MiB: about 2 million rows of two numbers).
-MAX_CSV_BYTES = 64 * 2**20
 _CSV_KEYS = ("csv", "time", "value", "kind", "delimiter")
 
 
@@ -178,7 +176,7 @@ class Sampled:
         ------
         SceneError
             For a missing file or column, a cell that is not a number (naming its line),
-            more than :data:`MAX_CSV_BYTES`, and every check of :func:`sampled`.
+            more than :attr:`~laplace_springs.limits.Limits.max_csv_bytes`, and every check of :func:`sampled`.
 
         Examples
         --------
@@ -217,7 +215,7 @@ class Sampled:
 
 
 def _read_csv_text(path: Path) -> str:
-    return read_text_file(path, "CSV file", MAX_CSV_BYTES, "MAX_CSV_BYTES", "utf-8-sig")
+    return read_text_file(path, "CSV file", "max_csv_bytes", "utf-8-sig")
 
 
 def _column(header: list[str], name: str, role: str, where: str) -> int:

@@ -7,11 +7,11 @@ through :func:`laplace_springs.model.numbers.to_exact`, so ``0.2`` is stored as 
 and identifiers become SymPy Symbols: ``positive=True`` in ``M``, ``C``, ``K`` and
 component values (they are physical parameters), ``real=True`` in ``x0``, ``v0``.
 
-Sizes. A scene has at most :data:`MAX_COORDINATES` coordinates and
-:data:`MAX_COMPONENTS` springs and dashpots, and a matrix given entry by entry (nested
-lists or an array) is at most :data:`MAX_MATRIX_INPUT_SIZE` square; each limit is
+Sizes. A scene has at most :attr:`~laplace_springs.limits.Limits.max_coordinates` coordinates and
+:attr:`~laplace_springs.limits.Limits.max_components` springs and dashpots, and a matrix given entry by entry (nested
+lists or an array) is at most :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` square; each limit is
 checked before any entry is converted, and a violation is a :class:`SceneError` naming
-the entry and the limit. Up to :data:`DENSE_STORAGE_MAX_COORDINATES` coordinates ``M``,
+the entry and the limit. Up to :attr:`~laplace_springs.limits.Limits.dense_storage_max_coordinates` coordinates ``M``,
 ``C`` and ``K`` are dense ``sympy.ImmutableMatrix``; larger scenes hold them as
 :class:`ExactSparseMatrix` (a ``sympy.ImmutableSparseMatrix``) and every check costs time
 proportional to their nonzero entries, so a 10,000-mass chain is built in seconds.
@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
+import importlib
+import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
@@ -34,6 +36,7 @@ from sympy.matrices.immutable import ImmutableRepMatrix
 from sympy.polys.domains import GF
 from sympy.polys.matrices import DomainMatrix
 
+from ..limits import limits
 from . import state_space as _state_space
 from .components import Component
 from .errors import SceneError
@@ -52,10 +55,6 @@ from .supports import (
 from .symbols import TIME
 
 __all__ = [
-    "DENSE_STORAGE_MAX_COORDINATES",
-    "MAX_COMPONENTS",
-    "MAX_COORDINATES",
-    "MAX_MATRIX_INPUT_SIZE",
     "ExactSparseMatrix",
     "Scene",
 ]
@@ -65,8 +64,11 @@ LAYOUTS = ("horizontal", "vertical")
 
 #: Draws a scene's diagram for notebooks: ``renderer(scene, "png" | "svg")`` returns PNG
 #: bytes, SVG text or None. model/ does not import output/, so
-#: laplace_springs.output.drawing registers it when it is imported.
+#: laplace_springs.output.drawing registers it when it is imported (and the first display
+#: of a scene imports that module by name, since ``import laplace_springs`` loads nothing).
 _DISPLAY_HOOKS: dict[str, Callable[[Any, str], bytes | str | None]] = {}
+#: The module that registers the diagram renderer.
+_RENDERER_MODULE = "laplace_springs.output.drawing"
 
 
 def register_diagram_renderer(renderer: Callable[[Any, str], bytes | str | None] | None) -> None:
@@ -86,22 +88,11 @@ def register_diagram_renderer(renderer: Callable[[Any, str], bytes | str | None]
 
 
 def _diagram(scene: Any, fmt: str) -> bytes | str | None:
+    if "diagram" not in _DISPLAY_HOOKS and _RENDERER_MODULE not in sys.modules:
+        importlib.import_module(_RENDERER_MODULE)  # registers itself
     renderer = _DISPLAY_HOOKS.get("diagram")
     return renderer(scene, fmt) if renderer is not None else None
 
-#: Most coordinates (masses) a scene may have. A 100,000-mass chain is built in about
-#: 30 s (see benchmarks/bench_loading.py); the numeric routes take far fewer.
-MAX_COORDINATES = 100_000
-#: Most components (springs and dashpots together) a scene may have.
-MAX_COMPONENTS = 300_000
-#: Largest n of an n x n matrix given entry by entry (nested sequences or an array): each
-#: of its n² entries is read. A scene file with three 500 x 500 arrays (two of them full
-#: of distinct numbers, 5.6 MB) loads in about 9 s. Larger scenes: components, or a SymPy
-#: sparse matrix (whose nonzero entries only are read).
-MAX_MATRIX_INPUT_SIZE = 500
-#: Scenes with at most this many coordinates store ``M``, ``C``, ``K`` as dense
-#: ``sympy.ImmutableMatrix``; larger ones as :class:`ExactSparseMatrix`.
-DENSE_STORAGE_MAX_COORDINATES = 256
 
 Parameters = Mapping[str, sympy.Symbol]
 Entries = dict[tuple[int, int], sympy.Expr]
@@ -167,7 +158,7 @@ def _position(item: tuple[tuple[int, int], Any]) -> tuple[int, int]:
 def _from_entries(rows: int, cols: int, entries: Mapping[tuple[int, int], Any]) -> Any:
     """The exact matrix with these entries (zeros are left out), stored as a scene of
     ``rows`` coordinates stores it."""
-    if rows > DENSE_STORAGE_MAX_COORDINATES:
+    if rows > limits().dense_storage_max_coordinates:
         return ExactSparseMatrix.from_entries(rows, cols, entries)
     flat: list[Any] = [sympy.S.Zero] * (rows * cols)
     for (i, j), value in entries.items():
@@ -176,8 +167,8 @@ def _from_entries(rows: int, cols: int, entries: Mapping[tuple[int, int], Any]) 
 
 
 def _stored(matrix: Any, n: int) -> Any:
-    """``matrix`` in a scene's storage: dense up to DENSE_STORAGE_MAX_COORDINATES, else sparse."""
-    if n > DENSE_STORAGE_MAX_COORDINATES:
+    """``matrix`` in a scene's storage: dense up to Limits.dense_storage_max_coordinates, else sparse."""
+    if n > limits().dense_storage_max_coordinates:
         if isinstance(matrix, ExactSparseMatrix):
             return matrix
         return ExactSparseMatrix.from_entries(matrix.rows, matrix.cols, matrix.todok())
@@ -226,7 +217,7 @@ def _check_size(name: str, n: int, limit: int, what: str, hint: str) -> None:
 
 
 def _check_coordinates(name: str, n: int) -> None:
-    _check_size(name, n, MAX_COORDINATES, "coordinates", " (MAX_COORDINATES)")
+    _check_size(name, n, limits().max_coordinates, "coordinates", " (Limits.max_coordinates)")
 
 
 def _rows_of(value: Any, name: str) -> list[list[Any]]:
@@ -253,8 +244,8 @@ def _rows_of(value: Any, name: str) -> list[list[Any]]:
 
 
 def _check_dense_input(name: str, n: int) -> None:
-    _check_size(name, n, MAX_MATRIX_INPUT_SIZE, "rows given entry by entry",
-                " (MAX_MATRIX_INPUT_SIZE); describe a larger scene by its masses, springs and "
+    _check_size(name, n, limits().max_matrix_input_size, "rows given entry by entry",
+                " (Limits.max_matrix_input_size); describe a larger scene by its masses, springs and "
                 "dashpots (Scene.from_components, or [masses] in a scene file), or give a SymPy "
                 "sparse matrix")
 
@@ -271,7 +262,7 @@ def _exact_matrix(value: Any, name: str, convert: _Converter) -> Any:
     """An exact square matrix; each entry converted with the entry name ``name[i,j]``.
 
     A SymPy matrix is read from its nonzero entries; nested sequences and arrays entry by
-    entry (at most MAX_MATRIX_INPUT_SIZE rows).
+    entry (at most Limits.max_matrix_input_size rows).
     """
     if isinstance(value, sympy.MatrixBase):
         rows, cols = value.shape
@@ -544,12 +535,12 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
     Δ has degree ≤ 2n, so it vanishes identically iff it vanishes at 2n + 1 rational
     points; symbols get fixed generic values first, and only if all those points give
     zero is the symbolic determinant formed. A scene of more than
-    DENSE_STORAGE_MAX_COORDINATES coordinates is tried at three points by sparse exact
+    Limits.dense_storage_max_coordinates coordinates is tried at three points by sparse exact
     elimination, and its pencil taken as singular if all three give zero.
     """
     symbols = sorted(M.free_symbols | C.free_symbols | K.free_symbols, key=lambda s: s.name)
     generic = generic_values(symbols)
-    sparse = M.rows > DENSE_STORAGE_MAX_COORDINATES
+    sparse = M.rows > limits().dense_storage_max_coordinates
     for value in _pencil_points(M.rows, sparse):
         if sparse:
             if _full_rank(M.rows, _pencil_at(value, M, C, K), generic):
@@ -569,11 +560,11 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
 def _common_null_vector(M: Any, C: Any, K: Any) -> list[sympy.Expr] | None:
     """A nonzero v with Mv = Cv = Kv = 0, or None.
 
-    Scenes of more than DENSE_STORAGE_MAX_COORDINATES coordinates: only for a diagonal M,
+    Scenes of more than Limits.dense_storage_max_coordinates coordinates: only for a diagonal M,
     whose null vectors live on the massless coordinates z (the columns z of C and K are
     searched, symbols at generic values); None otherwise.
     """
-    if M.rows <= DENSE_STORAGE_MAX_COORDINATES:
+    if M.rows <= limits().dense_storage_max_coordinates:
         null = sympy.Matrix.vstack(sympy.Matrix(M), sympy.Matrix(C), sympy.Matrix(K)).nullspace()
         return list(null[0]) if null else None
     masses = M.todok()
@@ -607,10 +598,10 @@ def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.
     )
     null = _common_null_vector(M, C, K)
     if null is None:
-        if M.rows > DENSE_STORAGE_MAX_COORDINATES:
+        if M.rows > limits().dense_storage_max_coordinates:
             points = ", ".join(str(point) for point in _pencil_points(M.rows, True))
             return (f"{text} (it vanishes at λ = {points}, where a scene of more than "
-                    f"DENSE_STORAGE_MAX_COORDINATES = {DENSE_STORAGE_MAX_COORDINATES} coordinates "
+                    f"Limits.dense_storage_max_coordinates = {limits().dense_storage_max_coordinates} coordinates "
                     "is tried)")
         return text
     pivot = next(entry for entry in null if entry != 0)
@@ -639,7 +630,7 @@ def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
         _check_symmetric_mass(entries)
         if not M.free_symbols:
             _check_numeric_mass_matrix(M, entries)
-        if M.rows > DENSE_STORAGE_MAX_COORDINATES:
+        if M.rows > limits().dense_storage_max_coordinates:
             singular = not _full_rank(M.rows, entries, generic_values(M.free_symbols))
         elif not M.free_symbols:
             singular = M.det() == 0
@@ -683,22 +674,22 @@ def _pairs(items: Mapping[str, Any] | Iterable[Sequence[Any]], what: str,
 
 
 def _check_counts(masses: Any, springs: Any, dashpots: Any) -> None:
-    """MAX_COORDINATES and MAX_COMPONENTS, for inputs whose length is known, before any work."""
+    """Limits.max_coordinates and Limits.max_components, for inputs whose length is known, before any work."""
     if isinstance(masses, (Mapping, Sequence)):
-        _check_size("masses", len(masses), MAX_COORDINATES, "masses", " (MAX_COORDINATES)")
+        _check_size("masses", len(masses), limits().max_coordinates, "masses", " (Limits.max_coordinates)")
     sizes = [len(items) for items in (springs, dashpots) if isinstance(items, (Mapping, Sequence))]
     _check_components(sum(sizes))
 
 
 def _check_components(count: int) -> None:
-    _check_size("springs and dashpots", count, MAX_COMPONENTS, "components", " (MAX_COMPONENTS)")
+    _check_size("springs and dashpots", count, limits().max_components, "components", " (Limits.max_components)")
 
 
 def _parse_masses(masses: Mapping[str, Any] | Iterable[Sequence[Any]],
                   convert: _Converter) -> dict[str, sympy.Expr]:
     parsed: dict[str, sympy.Expr] = {}
     pairs = _pairs(masses, "masses", 1)
-    _check_size("masses", len(pairs), MAX_COORDINATES, "masses", " (MAX_COORDINATES)")
+    _check_size("masses", len(pairs), limits().max_coordinates, "masses", " (Limits.max_coordinates)")
     for name, value in pairs:
         if not isinstance(name, str) or not name:
             raise SceneError(f"mass names must be non-empty strings, got {shown(name)}")
@@ -834,7 +825,7 @@ class Scene:
     M, C, K : sympy.ImmutableMatrix or ExactSparseMatrix
         Mass, damping and stiffness matrices, n x n, exact. ``C`` and ``K`` are
         zero matrices when there is no damping or no stiffness. Dense
-        ``sympy.ImmutableMatrix`` up to :data:`DENSE_STORAGE_MAX_COORDINATES`
+        ``sympy.ImmutableMatrix`` up to :attr:`~laplace_springs.limits.Limits.dense_storage_max_coordinates`
         coordinates, :class:`ExactSparseMatrix` (a ``sympy.ImmutableSparseMatrix``)
         beyond; the constructor converts to the storage the size calls for. Read their
         nonzero entries with ``.todok()``: it costs time in proportion to them.
@@ -1073,7 +1064,7 @@ class Scene:
         ([[2, -1], [-1/2, 1/2]], [[1/5, 0], [0, 1/5]])
         """
         entries = self.M.todok()
-        if self.n > DENSE_STORAGE_MAX_COORDINATES:
+        if self.n > limits().dense_storage_max_coordinates:
             return self._sparse_normalized(entries)
         if self.M.det() == 0:
             raise SceneError("the normalised form x'' + B x' + A x = 0 needs an invertible M; "
@@ -1094,7 +1085,7 @@ class Scene:
                 or any(mass.is_zero is not False for mass in masses.values()):
             raise SceneError(
                 f"the normalised form of a scene of {self.n} coordinates (more than "
-                f"DENSE_STORAGE_MAX_COORDINATES = {DENSE_STORAGE_MAX_COORDINATES}) needs a diagonal "
+                f"Limits.dense_storage_max_coordinates = {limits().dense_storage_max_coordinates}) needs a diagonal "
                 "M with nonzero masses; this scene's M is not diagonal or has massless nodes")
         simplify = sympy.cancel if self.M.free_symbols else _same
 
@@ -1244,8 +1235,8 @@ class Scene:
         ----------
         M : matrix-like
             Mass matrix, n x n: nested lists/tuples or a numpy array (at most
-            :data:`MAX_MATRIX_INPUT_SIZE` rows: every entry is read), or a SymPy matrix
-            (dense or sparse, at most :data:`MAX_COORDINATES` rows: its nonzero entries
+            :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` rows: every entry is read), or a SymPy matrix
+            (dense or sparse, at most :attr:`~laplace_springs.limits.Limits.max_coordinates` rows: its nonzero entries
             are read). Entries are numbers or text (see
             :func:`laplace_springs.model.numbers.to_exact`).
         C, K : matrix-like, optional
@@ -1279,7 +1270,7 @@ class Scene:
             For a non-square or empty ``M``, mismatched shapes, a wrong vector length,
             non-finite or non-numeric entries, an undeclared name, a number beyond the
             limits of :mod:`laplace_springs.model.numbers`, a size beyond
-            :data:`MAX_MATRIX_INPUT_SIZE` or :data:`MAX_COORDINATES` (before any entry
+            :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` or :attr:`~laplace_springs.limits.Limits.max_coordinates` (before any entry
             is read), a negative mass, an indefinite symmetric ``M``, or a singular
             pencil (det(λ²M + λC + K) identically zero). A zero mass is allowed: it is a
             massless node (see :attr:`Solution.initial_jump`).
@@ -1412,8 +1403,8 @@ class Scene:
             For an unknown node, a component from a node to itself or between two
             supports, a negative stiffness or damping, a duplicate label or mass
             name, a negative mass, a singular pencil (a massless node with no spring
-            or dashpot), more than :data:`MAX_COORDINATES` masses or more than
-            :data:`MAX_COMPONENTS` springs and dashpots (before any value is read). A
+            or dashpot), more than :attr:`~laplace_springs.limits.Limits.max_coordinates` masses or more than
+            :attr:`~laplace_springs.limits.Limits.max_components` springs and dashpots (before any value is read). A
             mass of 0 is a massless node.
 
         Examples

@@ -36,13 +36,13 @@ Limits. A scene file is read in time proportional to its size, and these limits 
 checked before any heavy work, each violation a :class:`SceneError` that names the table
 or entry and the limit:
 
-* :data:`MAX_FILE_BYTES` (16 MiB): the file's size, checked before it is parsed (no
+* :attr:`~laplace_springs.limits.Limits.max_file_bytes` (16 MiB): the file's size, checked before it is parsed (no
   more than this is ever read);
-* :data:`~laplace_springs.model.scene.MAX_COORDINATES` (100,000): masses in
+* :attr:`~laplace_springs.limits.Limits.max_coordinates` (100,000): masses in
   ``[masses]``, coordinates of a scene;
-* :data:`~laplace_springs.model.scene.MAX_COMPONENTS` (300,000): springs and dashpots
+* :attr:`~laplace_springs.limits.Limits.max_components` (300,000): springs and dashpots
   together;
-* :data:`~laplace_springs.model.scene.MAX_MATRIX_INPUT_SIZE` (500): n of the n x n
+* :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` (500): n of the n x n
   arrays of ``[matrices]`` and ``[normalized]`` (n² entries each); describe larger
   scenes by their masses, springs and dashpots;
 * nesting of TOML arrays and tables as deep as the TOML reader takes (a few hundred).
@@ -66,17 +66,15 @@ from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any
 
+from ..limits import limits
 from .errors import SceneError
 from .numbers import shown
 from .sampled import resolve_csv_entries
-from .scene import MAX_COMPONENTS, MAX_COORDINATES, MAX_MATRIX_INPUT_SIZE, Scene
+from .scene import Scene
 from .text_files import read_text_file
 
-__all__ = ["MAX_FILE_BYTES", "bundled_scenes", "load_scene", "scene_from_toml_text"]
+__all__ = ["bundled_scenes", "load_scene", "scene_from_toml_text"]
 
-#: Largest scene file, in bytes (16 MiB): about 4 times a 100,000-mass chain with springs
-#: and dashpots. Checked before parsing; no more than this is read from a file.
-MAX_FILE_BYTES = 16 * 2**20
 
 #: A line that opens a table (``[name]``, ``[[name]]``, quoted or dotted names).
 _HEADER = re.compile(r"^[ \t]*\[\[?([^\[\]\n]*)\]\]?[ \t]*(?:#[^\n]*)?$", re.M)
@@ -291,14 +289,14 @@ def _looks_like_path(name_or_path: str | os.PathLike[str]) -> bool:
 
 
 def _read_path(path: Path) -> str:
-    """The text of a scene file: at most MAX_FILE_BYTES are read, whatever the file is."""
-    return read_text_file(path, "scene file", MAX_FILE_BYTES, "MAX_FILE_BYTES")
+    """The text of a scene file: at most Limits.max_file_bytes are read, whatever the file is."""
+    return read_text_file(path, "scene file", "max_file_bytes")
 
 
 def _check_text_size(text: str) -> None:
-    if len(text) > MAX_FILE_BYTES:  # characters: at least as many bytes
+    if len(text) > limits().max_file_bytes:  # characters: at least as many bytes
         raise SceneError(f"the text has {len(text):,} characters, more than the limit "
-                         f"{MAX_FILE_BYTES:,} bytes (MAX_FILE_BYTES)")
+                         f"{limits().max_file_bytes:,} bytes (Limits.max_file_bytes)")
 
 
 def _section_lines(text: str) -> dict[str, int]:
@@ -320,18 +318,18 @@ def _section_lines(text: str) -> dict[str, int]:
 
 
 def _check_counts(text: str) -> None:
-    """MAX_COORDINATES, MAX_COMPONENTS and MAX_MATRIX_INPUT_SIZE, from the text (fast)."""
+    """Limits.max_coordinates, Limits.max_components and Limits.max_matrix_input_size, from the text (fast)."""
     if len(text) < 100_000:
         return  # small files are parsed in milliseconds and checked exactly
     counts = _section_lines(text)
     masses = counts.get("masses", 0)
-    if masses > MAX_COORDINATES:
-        raise SceneError(f"[masses]: {masses:,} masses, more than the limit {MAX_COORDINATES:,} "
-                         "(MAX_COORDINATES)")
+    if masses > limits().max_coordinates:
+        raise SceneError(f"[masses]: {masses:,} masses, more than the limit {limits().max_coordinates:,} "
+                         "(Limits.max_coordinates)")
     components = counts.get("springs", 0) + counts.get("dashpots", 0)
-    if components > MAX_COMPONENTS:
+    if components > limits().max_components:
         raise SceneError(f"[springs] and [dashpots]: {components:,} components, more than the limit "
-                         f"{MAX_COMPONENTS:,} (MAX_COMPONENTS)")
+                         f"{limits().max_components:,} (Limits.max_components)")
     for form in ("matrices", "normalized"):
         header = re.search(rf"^[ \t]*\[[ \t]*{form}[ \t]*\]", text, re.M)
         row = _FIRST_ROW.search(text, header.end()) if header else None
@@ -339,10 +337,10 @@ def _check_counts(text: str) -> None:
             continue
         entries = row.group(2).strip().rstrip(",")
         size = entries.count(",") + 1 if entries else 0
-        if size > MAX_MATRIX_INPUT_SIZE:
+        if size > limits().max_matrix_input_size:
             raise SceneError(
                 f"[{form}] {row.group(1)}: {size:,} entries in its first row, more than the limit "
-                f"{MAX_MATRIX_INPUT_SIZE:,} (MAX_MATRIX_INPUT_SIZE); describe a larger scene by "
+                f"{limits().max_matrix_input_size:,} (Limits.max_matrix_input_size); describe a larger scene by "
                 "its masses, springs and dashpots ([masses], [springs], [dashpots])")
 
 

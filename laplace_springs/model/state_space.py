@@ -136,7 +136,7 @@ def state_space(scene: SceneMatrices) -> tuple[Any, Any, Any, Any]:
     -------
     A, B, C, D : sympy.ImmutableMatrix
         Of shapes 2n x 2n, 2n x n, n x 2n and n x n, exact. Scenes stored sparse (more
-        than ``DENSE_STORAGE_MAX_COORDINATES`` coordinates) give sparse matrices of the
+        than ``Limits.dense_storage_max_coordinates`` coordinates) give sparse matrices of the
         class of their M (:class:`~laplace_springs.model.scene.ExactSparseMatrix`).
 
     Raises

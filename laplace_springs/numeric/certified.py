@@ -41,17 +41,15 @@ import numpy as np
 import sympy as sp
 from flint import acb, acb_mat, acb_poly, arb, ctx, fmpq, fmpq_mat, fmpq_poly
 
+from ..limits import limits
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .first_order import first_order_system, is_rational
 from .pole_sum import PoleSum
 from .times import Times
 
-__all__ = ["CertifiedPoles", "certified_poles", "certified_values", "certified_digits", "closed_form",
-           "MAX_BITS"]
+__all__ = ["CertifiedPoles", "certified_poles", "certified_values", "certified_digits", "closed_form"]
 
-#: Highest working precision (bits) of the ball evaluation.
-MAX_BITS = 1 << 15
 _EPS = 2.0**-53
 
 
@@ -164,7 +162,7 @@ class CertifiedPoles:
             poles = self.poles(bits)
             with ctx.workprec(bits):
                 precise = _precision(poles) <= 10.0 ** -(dps + 2)
-            if precise or bits >= MAX_BITS:
+            if precise or bits >= limits().max_bits:
                 return _pole_sum(self.n, poles, dps)
             bits *= 2
 
@@ -334,7 +332,7 @@ def _start_bits(poles: CertifiedPoles, times: Times, digits: float) -> int:
 def certified_values(poles: CertifiedPoles, times: Times, order: int, target: float,
                      floor: float) -> tuple[np.ndarray, np.ndarray]:
     """float64 values and certified bounds, the precision doubled per time until the
-    bound is within ``target``·max(‖x(t)‖∞, ``floor``) (or :data:`MAX_BITS` is reached).
+    bound is within ``target``·max(‖x(t)‖∞, ``floor``) (or :attr:`~laplace_springs.limits.Limits.max_bits` is reached).
 
     The bound is the ball radius plus the rounding of the midpoint to float64.
     """
@@ -342,7 +340,7 @@ def certified_values(poles: CertifiedPoles, times: Times, order: int, target: fl
     values, bounds = np.zeros((n, count)), np.full((n, count), np.inf)
     pending = np.arange(count)
     bits = _start_bits(poles, times, -math.log10(target) + 4)
-    while pending.size and bits <= MAX_BITS:
+    while pending.size and bits <= limits().max_bits:
         mids, rads = poles.evaluate(times.subset(pending), order, bits)
         with np.errstate(over="ignore", invalid="ignore"):
             rads = rads + np.abs(mids) * _EPS
@@ -376,7 +374,7 @@ def certified_digits(poles: CertifiedPoles, times: Times, order: int, dps: int,
                 column = [mids[i][k] for i in range(n)]
                 radius = [rads[i][k] + abs(column[i]) * mpmath.mpf(10) ** (-dps) for i in range(n)]
                 scale = max([abs(v) for v in column] + [mpmath.mpf(floor)])
-                if max(radius) <= mpmath.mpf(10) ** (-dps) * scale * 10 or bits >= MAX_BITS:
+                if max(radius) <= mpmath.mpf(10) ** (-dps) * scale * 10 or bits >= limits().max_bits:
                     for i in range(n):
                         with mpmath.workdps(dps):
                             values[i, col] = +column[i]

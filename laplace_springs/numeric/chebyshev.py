@@ -71,10 +71,10 @@ from typing import Any
 import numpy as np
 from flint import fmpq
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from .classical import (
-    BANDED_MAX_BANDWIDTH,
     ClassicalMotion,
     ModalForm,
     SymmetricScene,
@@ -84,14 +84,8 @@ from .classical import (
 )
 from .first_order import rational_entries, scene_cache
 
-__all__ = ["rayleigh_coefficients", "ChebyshevMotion", "chebyshev_motion", "SHAPES_MAX_COORDINATES",
-           "MAX_VECTOR_FLOATS"]
+__all__ = ["rayleigh_coefficients", "ChebyshevMotion", "chebyshev_motion"]
 
-#: Largest scene whose mode shapes (``modes``, ``x``) a Chebyshev motion builds on request
-#: (the n x n shapes of the eigen route: 128 MB at 4,000).
-SHAPES_MAX_COORDINATES = 4_000
-#: Largest scene whose eigenvalues (``poles``) are computed densely when K is not banded.
-DENSE_EIGENVALUES_MAX_COORDINATES = 4_000
 _EPS = float(np.finfo(float).eps)
 _U = _EPS / 2
 #: The working precision of the recurrence, the values at the nodes and the DCT: the x87
@@ -109,9 +103,6 @@ _PRODUCT_BLOCKS = 6
 _CHUNK = 2_000_000
 #: Largest number of floats of Chebyshev vectors kept between calls.
 _KEEP = 25_000_000
-#: Largest number of floats of Chebyshev vectors held at once (1 GB): n·(N+1) per initial
-#: vector, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen.
-MAX_VECTOR_FLOATS = 125_000_000
 
 
 # ----------------------------------------------------------------------------- exact check
@@ -291,7 +282,7 @@ class ChebyshevMotion:
 
     ``values`` and ``bound`` follow :class:`~laplace_springs.numeric.classical.ClassicalMotion`;
     ``poles`` computes the eigenvalues only (banded K); ``modes`` and ``modal_form`` build the
-    eigen route's shapes on request (up to :data:`SHAPES_MAX_COORDINATES` coordinates).
+    eigen route's shapes on request (up to :attr:`~laplace_springs.limits.Limits.classical_max_coordinates` coordinates).
     """
 
     def __init__(self, data: SymmetricScene, a: Any, b: Any, *, exact_data: bool = False) -> None:
@@ -412,15 +403,15 @@ class ChebyshevMotion:
             return np.sort(A.diagonal())
         if d.bandwidth == 1:
             return la.eigvalsh_tridiagonal(A.diagonal(), A.diagonal(1))
-        if d.bandwidth <= BANDED_MAX_BANDWIDTH:
+        if d.bandwidth <= limits().banded_max_bandwidth:
             bands = np.zeros((d.bandwidth + 1, d.n))
             for k in range(d.bandwidth + 1):
                 bands[k, : d.n - k] = A.diagonal(-k)
             return la.eig_banded(bands, lower=True, eigvals_only=True)
-        if d.n > DENSE_EIGENVALUES_MAX_COORDINATES:
+        if d.n > limits().dense_eigenvalues_max_coordinates:
             raise SceneError(f"the poles of this scene need the eigenvalues of a dense {d.n:,} x "
                              f"{d.n:,} matrix (K has half-bandwidth {d.bandwidth}), more than "
-                             f"{DENSE_EIGENVALUES_MAX_COORDINATES:,} coordinates")
+                             f"{limits().dense_eigenvalues_max_coordinates:,} coordinates")
         return la.eigvalsh(A.toarray())
 
     def poles(self) -> np.ndarray:
@@ -430,10 +421,10 @@ class ChebyshevMotion:
 
     @cached_property
     def _shapes(self) -> ClassicalMotion:
-        if self.n > SHAPES_MAX_COORDINATES:
+        if self.n > limits().classical_max_coordinates:
             raise SceneError(f"this scene's motion comes from a Chebyshev expansion without mode "
                              f"shapes; its {self.n:,} coordinates are more than "
-                             f"SHAPES_MAX_COORDINATES = {SHAPES_MAX_COORDINATES:,} for the n x n "
+                             f"Limits.classical_max_coordinates = {limits().classical_max_coordinates:,} for the n x n "
                              "shapes (use evaluate() for values)")
         return ClassicalMotion(self.data)
 
@@ -648,11 +639,11 @@ class ChebyshevMotion:
             degrees = self._degrees(t, order)
             top = int(np.max(degrees))
             columns = 2 if np.any(self.data.v0) else 1
-            if (top + 1) * self.n * columns > MAX_VECTOR_FLOATS:
+            if (top + 1) * self.n * columns > limits().chebyshev_max_vector_floats:
                 raise SceneError(
                     f"the Chebyshev expansion of this scene would hold {columns} x {top + 1:,} "
                     f"vectors of {self.n:,} entries to reach t = {float(np.max(t)):g}, more than "
-                    f"MAX_VECTOR_FLOATS = {MAX_VECTOR_FLOATS:,} floats; evaluate shorter times "
+                    f"Limits.chebyshev_max_vector_floats = {limits().chebyshev_max_vector_floats:,} floats; evaluate shorter times "
                     "(the degree grows like t·√‖M⁻¹K‖)")
             V, vinf, vec_err = self._recurrence(top)
             for N in (int(value) for value in np.unique(degrees)):

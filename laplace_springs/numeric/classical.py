@@ -43,20 +43,15 @@ import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .first_order import rational_entries, scene_arrays, scene_entries
 
 __all__ = ["classical_damping", "mode_poles", "float_eigenpairs", "classical_motion", "decompose_classical", "ClassicalMotion", "ModalForm", "ModalTerm", "SymmetricScene",
-           "symmetric_scene", "BANDED_MAX_BANDWIDTH"]
+           "symmetric_scene"]
 
-#: Largest half-bandwidth of K (diagonal M) solved with ``scipy.linalg.eig_banded``;
-#: wider ones go to the dense ``eigh``.
-BANDED_MAX_BANDWIDTH = 32
-#: Largest scene with a non-diagonal M whose classical damping is checked exactly (dense
-#: rational products C M⁻¹ K); larger ones are taken as non-classical.
-DENSE_CHECK_MAX_COORDINATES = 64
 _EPS = float(np.finfo(float).eps)
 
 
@@ -118,7 +113,7 @@ def classical_damping(scene: Scene) -> bool:
             for j, scaled in rows.get(k, ()):
                 product[i, j] = product.get((i, j), 0) + value * scaled
         return all(product.get((j, i), 0) == value for (i, j), value in product.items())
-    if n > DENSE_CHECK_MAX_COORDINATES:
+    if n > limits().dense_check_max_coordinates:
         return False
     dense = [fmpq_mat(n, n) for _ in range(3)]
     for matrix, entries in zip(dense, (M, C, K)):
@@ -371,7 +366,7 @@ def _eigen(data: SymmetricScene) -> tuple[np.ndarray, np.ndarray]:
         A = data.K.multiply(scale[:, None]).multiply(scale[None, :]).tocsr() if n else data.K
         if data.bandwidth == 1:
             theta, V = la.eigh_tridiagonal(A.diagonal(), A.diagonal(1))
-        elif data.bandwidth <= BANDED_MAX_BANDWIDTH:
+        elif data.bandwidth <= limits().banded_max_bandwidth:
             b = data.bandwidth
             bands = np.zeros((b + 1, n))
             for k in range(b + 1):

@@ -24,19 +24,14 @@ import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat, fmpz_mat
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 
-__all__ = ["NUMERIC_MAX_COORDINATES", "scene_entries", "rational_entries", "scene_cache", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
+__all__ = ["scene_entries", "rational_entries", "scene_cache", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
            "massless_nodes", "first_order_system", "RigidSplit", "rigid_split", "is_rational",
            "has_first_order_form"]
 
-#: Largest scene (coordinates) the numeric routes take: they hold M, C, K as dense float64
-#: arrays and decompose the 2n x 2n first-order matrix four times (the motion and three
-#: perturbed copies for its error bound). Measured on damped chains, one core: 200
-#: coordinates 1 s, 400 6 s, 800 31 s; time grows like n³ and memory like n² (a 10,000-mass
-#: chain would need 6 GB per complex 2n x 2n array).
-NUMERIC_MAX_COORDINATES = 1_000
 
 
 _ENTRIES: dict[int, dict[str, Any]] = {}
@@ -125,19 +120,19 @@ def symbolic_entries(scene: Scene) -> list[str]:
 
 
 def check_numeric_size(scene: Scene) -> None:
-    """A SceneError, at once, for a scene beyond :data:`NUMERIC_MAX_COORDINATES`.
+    """A SceneError, at once, for a scene beyond :attr:`~laplace_springs.limits.Limits.general_modal_max_coordinates`.
 
     Examples
     --------
     >>> check_numeric_size(Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0]))  # fine
     """
-    if scene.n > NUMERIC_MAX_COORDINATES:
+    if scene.n > limits().general_modal_max_coordinates:
         raise SceneError(
             f"the numeric routes hold a scene as dense float64 matrices and decompose its 2n x 2n "
             f"first-order matrix; this scene has n = {scene.n:,} coordinates, more than "
-            f"NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,} (800 take about 30 s on one "
+            f"Limits.general_modal_max_coordinates = {limits().general_modal_max_coordinates:,} (800 take about 30 s on one "
             f"core, and the time grows like n³). Solve a scene of at most "
-            f"{NUMERIC_MAX_COORDINATES:,} coordinates (a coarser model). Undamped and "
+            f"{limits().general_modal_max_coordinates:,} coordinates (a coarser model). Undamped and "
             "classically damped scenes take the symmetric modal route, and Rayleigh-damped ones "
             "(C = aK + bM, diagonal M) the Chebyshev route, without dense 2n x 2n matrices")
 
@@ -147,7 +142,7 @@ def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
 
     Reads the nonzero entries only (``todok``), so a sparse matrix converts in time
     proportional to them; the result is dense, and a matrix of more than
-    (2·NUMERIC_MAX_COORDINATES)² entries is refused before it is allocated.
+    (2·Limits.general_modal_max_coordinates)² entries is refused before it is allocated.
 
     Examples
     --------
@@ -159,10 +154,10 @@ def float_matrix(matrix: sp.MatrixBase, name: str) -> np.ndarray:
     laplace_springs.model.errors.SceneError: K[0,0] = k is symbolic; give numbers for a numeric evaluation
     """
     rows, cols = matrix.shape
-    if rows * cols > (2 * NUMERIC_MAX_COORDINATES) ** 2:
+    if rows * cols > (2 * limits().general_modal_max_coordinates) ** 2:
         raise SceneError(f"{name} is {rows:,} x {cols:,}: more entries than a dense float64 array of "
-                         f"the numeric routes holds ((2·NUMERIC_MAX_COORDINATES)², "
-                         f"NUMERIC_MAX_COORDINATES = {NUMERIC_MAX_COORDINATES:,})")
+                         f"the numeric routes holds ((2·Limits.general_modal_max_coordinates)², "
+                         f"Limits.general_modal_max_coordinates = {limits().general_modal_max_coordinates:,})")
     out = np.zeros(matrix.shape)
     for (i, j), entry in sorted(matrix.todok().items()):
         if entry.free_symbols:

@@ -43,18 +43,14 @@ from typing import Any
 import numpy as np
 from flint import fmpq
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from .first_order import rational_entries
 
-__all__ = ["KRYLOV_MAX_STEPS", "KrylovData", "KrylovMotion", "krylov_refusal", "krylov_data",
+__all__ = ["KrylovData", "KrylovMotion", "krylov_refusal", "krylov_data",
            "krylov_motion"]
 
-#: Largest number of Taylor steps one evaluation takes (a time beyond about
-#: KRYLOV_MAX_STEPS·2/ν is refused: the cost grows linearly with the last time).
-KRYLOV_MAX_STEPS = 200_000
-#: Largest H·ν of a step: the float64 output sums lose about e^{Hν} units of rounding.
-STEP_NORM = 2.0
 _U = 2.0**-53
 _DD = 2.0**-100          # relative rounding of one double-double operation (generous)
 _SPLIT = 134217729.0     # 2**27 + 1
@@ -303,8 +299,8 @@ def _tail(theta: float, m: int) -> float:
 
 
 def _step_length(nu: float) -> float:
-    """The largest H ≤ STEP_NORM/ν with a 3-bit mantissa (so j·H is exact)."""
-    h = STEP_NORM / nu
+    """The largest H ≤ Limits.krylov_step_norm/ν with a 3-bit mantissa (so j·H is exact)."""
+    h = limits().krylov_step_norm / nu
     e = math.floor(math.log2(h))
     return math.floor(h / 2.0 ** (e - 2)) * 2.0 ** (e - 2)
 
@@ -353,9 +349,9 @@ class KrylovMotion:
             return states, bx, bv
         step = np.floor(hi / H).astype(np.int64)
         last = int(step.max())
-        if last >= KRYLOV_MAX_STEPS:
+        if last >= limits().krylov_max_steps:
             raise ValueError(f"t = {float(hi.max())!r} needs {last:,} Taylor steps of {H:g}, more "
-                             f"than KRYLOV_MAX_STEPS = {KRYLOV_MAX_STEPS:,}")
+                             f"than Limits.krylov_max_steps = {limits().krylov_max_steps:,}")
         order = np.argsort(step, kind="stable")
         bounds_at = np.searchsorted(step[order], np.arange(last + 2))
         exact_H = Fraction(H)
@@ -457,7 +453,7 @@ class KrylovMotion:
         return d.nu ** order * d.energy / math.sqrt(d.m_min) * 1.01
 
     def poles(self, count: int = 6) -> np.ndarray:
-        """Some poles: all of them (dense) up to 200 coordinates, else the ``count`` of
+        """Some poles: all of them (dense) up to Limits.dense_poles_max_coordinates, else the ``count`` of
         largest modulus and the ``count`` nearest 0 (ARPACK; empty where it fails)."""
         import scipy.linalg as sla
         import scipy.sparse as sps
@@ -466,7 +462,7 @@ class KrylovMotion:
         d = self.data
         n = d.n
         A = sps.bmat([[None, sps.identity(n)], [-d.matrix[:, :n], -d.matrix[:, n:]]], format="csc")
-        if n <= 200:
+        if n <= limits().dense_poles_max_coordinates:
             return np.sort_complex(sla.eigvals(A.toarray()))
         found = []
         for kw in ({"which": "LM"}, {"sigma": 0.0, "which": "LM"}):

@@ -28,7 +28,7 @@ where plain eigen-decompositions fail:
 
 Precision and conditioning
 --------------------------
-:meth:`ModalMotion.bound` is a first-order error bound, inflated by :data:`SAFETY`:
+:meth:`ModalMotion.bound` is a first-order error bound, inflated by :attr:`~laplace_springs.limits.Limits.modal_safety`:
 per simple mode, the eigenvector error (u·κ times the weight and the projection of the
 initial state) and the eigenvalue error δλ = κ·‖r‖ (measured residual), entering as
 e^{δλ t} − 1 (amplitude and phase; exact in δλ t, so long horizons are not
@@ -49,32 +49,18 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .classical import ModalForm
 from .first_order import RigidSplit, rigid_split, scene_arrays
 
-__all__ = ["KAPPA_MAX", "SAFETY", "SAMPLE_SAFETY", "Block", "Modes", "ModalMotion", "decompose_modal"]
+__all__ = ["Block", "Modes", "ModalMotion", "decompose_modal"]
 
-#: Eigenvalue condition number above which a mode is treated inside a block.
-KAPPA_MAX = 1e3
 #: Condition number above which a mode is treated in a block if it is also near another
 #: eigenvalue (closer than NEAR times its own modulus): a nearly defective pair.
 KAPPA_NEAR, NEAR = 10.0, 0.1
-#: Eigenvalues closer than this (relative to ‖Z‖) are grouped whatever their condition:
-#: their individual eigenvectors are not determined, their invariant subspace is.
-CLOSE = 1e-6
-#: Largest number of eigenvalues grouped around one ill-conditioned eigenvalue.
-MAX_GROUP = 8
-#: Factor applied to the first-order error bound (used where sampling is not possible).
-SAFETY = 8.0
-#: Factor applied to the sampled sensitivity (max of SAMPLES perturbed decompositions).
-SAMPLE_SAFETY = 8.0
-#: Perturbed decompositions measured per scene.
-SAMPLES = 3
-#: Largest first-order size for which an unseparable group falls back to one block for all.
-WHOLE_BLOCK_MAX = 64
 _EPS = float(np.finfo(float).eps)
 _RNG_SEED = 20011
 
@@ -106,7 +92,7 @@ def _float_massless(M: np.ndarray) -> list[int]:
 def _reduce(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray, v0: np.ndarray) -> _Reduced:
     scale = float(np.max(np.abs(M)))
     Ms = M / scale  # masses of 1e-300 or 1e300: factor their size out first
-    if np.linalg.cond(Ms) > 1e14:
+    if np.linalg.cond(Ms) > limits().max_mass_condition:
         raise SceneError(f"the modal route needs an invertible mass matrix, but M is singular "
                          f"to working precision (condition number {np.linalg.cond(Ms):.3g})")
     Cs, Ks = C / scale, K / scale
@@ -136,10 +122,10 @@ def _massless_system(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray
     n = len(M)
     m = [i for i in range(n) if i not in z]
     Czz, Mmm = C[np.ix_(z, z)], M[np.ix_(m, m)]
-    if np.linalg.cond(Czz) > 1e12:
+    if np.linalg.cond(Czz) > limits().max_damping_condition:
         raise SceneError(f"the modal route handles massless nodes held by dashpots (invertible C "
                          f"block on them); nodes {z} are not")
-    if m and np.linalg.cond(Mmm) > 1e14:
+    if m and np.linalg.cond(Mmm) > limits().max_mass_condition:
         raise SceneError("the modal route needs an invertible mass matrix on the massive nodes")
     P = -np.linalg.solve(Czz, K[z, :])
     Q = -np.linalg.solve(Czz, C[np.ix_(z, m)])
@@ -197,7 +183,7 @@ def _group_around(k: int, mu: np.ndarray, scale: float) -> np.ndarray:
     """k and its nearest neighbours up to the widest relative gap in distance."""
     distance = np.abs(mu - mu[k])
     distance[k] = np.inf
-    order = np.argsort(distance)[: min(MAX_GROUP - 1, len(mu) - 1)]
+    order = np.argsort(distance)[: min(limits().max_group - 1, len(mu) - 1)]
     near = np.maximum(distance[order], 1e-3 * _EPS * scale)
     everything = len(order) == len(mu) - 1  # taking all: as if the next one were at 10·‖Z‖
     beyond = np.append(near[1:], 10 * max(scale, near[-1]) if everything else
@@ -207,20 +193,20 @@ def _group_around(k: int, mu: np.ndarray, scale: float) -> np.ndarray:
 
 
 def _ill_conditioned(mu: np.ndarray, kappa: np.ndarray, scale: float) -> np.ndarray:
-    """Indices of eigenvalues to group: κ > KAPPA_MAX, or κ > KAPPA_NEAR and a close
-    neighbour, or a neighbour closer than CLOSE·‖Z‖ whatever κ.
+    """Indices of eigenvalues to group: κ > Limits.kappa_max, or κ > KAPPA_NEAR and a close
+    neighbour, or a neighbour closer than Limits.close_poles·‖Z‖ whatever κ.
 
     The companion form gives low-frequency modes κ ≈ 1/(2|μ|) without harm (their
     neighbours are about |μ| away); a nearly defective pair has its partner much closer.
     """
     if len(mu) < 2:
-        return np.flatnonzero(kappa > KAPPA_MAX)
+        return np.flatnonzero(kappa > limits().kappa_max)
     distance = np.abs(mu[:, None] - mu[None, :])
     np.fill_diagonal(distance, np.inf)
     nearest = distance.min(axis=1)
     near = nearest < NEAR * np.abs(mu)
-    return np.flatnonzero((kappa > KAPPA_MAX) | ((kappa > KAPPA_NEAR) & near)
-                          | (nearest < CLOSE * scale))
+    return np.flatnonzero((kappa > limits().kappa_max) | ((kappa > KAPPA_NEAR) & near)
+                          | (nearest < limits().close_poles * scale))
 
 
 def _groups(mu: np.ndarray, kappa: np.ndarray, scale: float) -> list[list[int]]:
@@ -481,14 +467,14 @@ class Modes:
         return np.where(np.isfinite(total), total, np.inf)
 
     def _sampled_bound(self, t: np.ndarray, order: int) -> np.ndarray:
-        """SAMPLE_SAFETY × the largest distance of a perturbed motion's analytic signal,
+        """Limits.sample_safety × the largest distance of a perturbed motion's analytic signal,
         per coordinate, floored at a tenth of its largest over the coordinates."""
         mine = self.analytic(t, order)
         moved = np.zeros(mine.shape)
         for other, ratio in self.samples:
             moved = np.maximum(moved, np.abs(other.analytic(t, order) * ratio - mine))
         floor = 0.1 * np.max(moved, axis=0, initial=0.0)
-        return SAMPLE_SAFETY * np.maximum(moved, floor[None, :])
+        return limits().sample_safety * np.maximum(moved, floor[None, :])
 
     def _rounding_bound(self, t: np.ndarray, order: int) -> np.ndarray:
         """The rounding of the float64 sum: of the weights (u·(reach + |w|)), of each term,
@@ -502,14 +488,14 @@ class Modes:
         return total
 
     def _first_order_bound(self, t: np.ndarray, order: int) -> np.ndarray:
-        """u·κ·(|w| + reach) in amplitude and δλ in rate and phase, times SAFETY."""
+        """u·κ·(|w| + reach) in amplitude and δλ in rate and phase, times Limits.modal_safety."""
         size, delta, weight = np.abs(self.rates), self.rate_error, np.abs(self.weights)
         growth = np.exp(np.outer(self.rates.real + delta, t))
         drift = np.expm1(np.outer(delta, t))
         moved = (size + delta) ** order
-        amplitude = SAFETY * self.unit * self.kappa * (weight + self.reach)
+        amplitude = limits().modal_safety * self.unit * self.kappa * (weight + self.reach)
         total = (amplitude * moved) @ (growth * (1 + drift))
-        total += SAFETY * ((weight + self.reach) * moved) @ (growth * drift)
+        total += limits().modal_safety * ((weight + self.reach) * moved) @ (growth * drift)
         return total
 
     def _block_bound(self, block: Block, t: np.ndarray, order: int,
@@ -523,8 +509,8 @@ class Modes:
         moved = np.linalg.matrix_power(moved_block.T, order) @ moved_block.exp_times(t, block.c)
         spread = np.linalg.norm(inner, axis=0) + np.linalg.norm(np.einsum("ij,tjk->tik", Tp, exps),
                                                                 axis=(1, 2))
-        out = SAFETY * unit * block.kappa * np.linalg.norm(block.F, 2) * spread
-        return out[None, :] + SAFETY * np.abs(block.F @ (moved - inner))
+        out = limits().modal_safety * unit * block.kappa * np.linalg.norm(block.F, 2) * spread
+        return out[None, :] + limits().modal_safety * np.abs(block.F @ (moved - inner))
 
 
 def _block_value(block: Block, t: np.ndarray, order: int) -> np.ndarray:
@@ -548,7 +534,7 @@ def _basis(Z: np.ndarray, mu: np.ndarray, V: np.ndarray, groups: list[list[int]]
             columns.append(Q)
             blocks.append((Q.conj().T @ Z @ Q, error))
             grouped.extend(group)
-        elif len(Z) <= WHOLE_BLOCK_MAX:
+        elif len(Z) <= limits().whole_block_max:
             return np.arange(0), np.eye(len(Z), dtype=complex), [(Z.astype(complex), 0.0)], []
         else:
             warnings.append(f"{len(group)} clustered poles near {complex(mu[group].mean()):.4g} (scaled) "
@@ -699,10 +685,10 @@ def _perturbed(arrays: tuple[np.ndarray, ...], rounding: tuple[np.ndarray, ...],
 
 def _sampled(modes: Modes, scale: float, arrays: tuple[np.ndarray, ...],
              rounding: tuple[np.ndarray, ...]) -> Modes:
-    """``modes`` with :data:`SAMPLES` decompositions of perturbed copies of the data."""
+    """``modes`` with :attr:`~laplace_springs.limits.Limits.samples` decompositions of perturbed copies of the data."""
     rng = np.random.default_rng(_RNG_SEED)
     samples = []
-    for _ in range(SAMPLES):
+    for _ in range(limits().samples):
         try:
             M, C, K, x0, v0 = _perturbed(arrays, rounding, rng)
             other, other_scale = _decompose_arrays(M, C, K, x0, v0, noise=rng)

@@ -50,14 +50,10 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
-__all__ = ["THETA", "Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
+from ..limits import limits
 
-#: A block is used while t·(its link heights) ≤ THETA.
-THETA = 1.0
-#: Merge two groups when their separate forms exceed the joint form by this factor.
-_GAIN = 16.0
-#: Groups larger than this are never blocked together (Newton data costs O(M²n)).
-_MAX_BLOCK = 24
+__all__ = ["Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
+
 _EPS = float(np.finfo(float).eps)
 #: Relative error of a phase formed in double-double (μ stored to 2^-106, products 2^-105).
 _PHASE_UNIT = 2.0**-103
@@ -217,9 +213,9 @@ def plan_blocks(form: PoleSum) -> list[Block]:
     """The blocks of a pole sum, each with the time window in which it is used.
 
     Walks the single-link dendrogram upwards (Kruskal). A group is a list of blocks;
-    at a link of height h the union becomes one block for t ≤ THETA/h when the groups'
-    separate Newton forms are more than _GAIN times larger than the joint form
-    somewhere on [0, THETA/h] (against a floor of a tenth of its largest size), i.e.
+    at a link of height h the union becomes one block for t ≤ Limits.block_theta/h when the groups'
+    separate Newton forms are more than Limits.block_gain times larger than the joint form
+    somewhere on [0, Limits.block_theta/h] (against a floor of a tenth of its largest size), i.e.
     when evaluating them apart would cancel. The mirror link (conjugate nodes) gets
     the same decision, so blocks come in conjugate pairs or are self-conjugate; blocks
     wholly in the lower half plane are dropped and their mirrors count twice.
@@ -245,10 +241,10 @@ def plan_blocks(form: PoleSum) -> list[Block]:
         ra, rb = find(a), find(b)
         parts = groups.pop(ra) + groups.pop(rb)
         parent[rb] = ra
-        t_high = THETA / h if h > 0 else math.inf
+        t_high = limits().block_theta / h if h > 0 else math.inf
         union = tuple(sorted(j for part in parts for j in part.nodes))
         if decision is None:
-            decision = len(union) <= _MAX_BLOCK and _needs_merge(
+            decision = len(union) <= limits().max_block and _needs_merge(
                 parts, block_of(union, t_high), t_high)
         if decision:
             finished.extend((part, t_high) for part in parts)
@@ -280,7 +276,7 @@ def _needs_merge(parts: list[Block], joint: Block, t_high: float) -> bool:
     apart = np.array([sum(_size(p, t) for p in parts) for t in samples])
     together = np.array([_size(joint, t) for t in samples])
     floor = 0.1 * together.max()
-    return bool(np.any(apart > _GAIN * (together + floor))) or not math.isfinite(t_high)
+    return bool(np.any(apart > limits().block_gain * (together + floor))) or not math.isfinite(t_high)
 
 
 # ----------------------------------------------------------------------------- float kernels

@@ -47,21 +47,15 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.sampled import Sampled
 from ..model.scene import Scene
 from .first_order import first_order_system, massless_nodes
 
-__all__ = ["SampledInput", "sampled_inputs", "MP_MAX_SEGMENTS", "MP_MAX_STEPS"]
+__all__ = ["SampledInput", "sampled_inputs"]
 
 _EPS = float(np.finfo(float).eps)
-#: Largest number of segments the mpmath evaluation (``dps``, escalation) runs through.
-MP_MAX_SEGMENTS = 20_000
-#: Largest number of distinct step lengths the mpmath evaluation exponentiates.
-MP_MAX_STEPS = 64
-#: A grid is taken as uniform when every step (and every 2^i-step span) is within this
-#: fraction of 1/‖A‖ of its nominal length (then the second-order remainder is < ε).
-_UNIFORM = 1e-8
 #: Batched expm of at most this many distinct times; beyond, Taylor series (short τ).
 _UNIQUE_EXPM = 256
 #: Taylor degree for ‖Â‖τ ≤ 1/2 per substep (remainder 0.5^17/17! ≈ 2e-20).
@@ -274,7 +268,7 @@ class SampledInput:
         t = self.data.times
         h = (t[-1] - t[0]) / (t.size - 1)
         deviation = np.max(np.abs(np.diff(t) - h))
-        return h if deviation * self.norm <= _UNIFORM else None
+        return h if deviation * self.norm <= limits().uniform_grid else None
 
     def _scan(self) -> tuple[np.ndarray, np.ndarray] | None:
         """The states on a uniform grid; None for other grids.
@@ -453,11 +447,11 @@ class SampledInput:
     # -- mpmath ----------------------------------------------------------------------
     def digits(self, times: list[Any], order: int, dps: int) -> list[list[Any]]:
         """x, x' or x'' at exact times (Fractions), to about ``dps`` digits: a row per
-        time. Runs the segments in mpmath (at most MP_MAX_SEGMENTS of them)."""
+        time. Runs the segments in mpmath (at most Limits.mp_max_segments of them)."""
         t = self.data.times
-        if t.size - 1 > MP_MAX_SEGMENTS or np.unique(np.diff(t)).size > MP_MAX_STEPS:
+        if t.size - 1 > limits().mp_max_segments or np.unique(np.diff(t)).size > limits().mp_max_steps:
             raise ValueError(f"the mpmath evaluation of a sampled force runs through at most "
-                             f"{MP_MAX_SEGMENTS} segments with at most {MP_MAX_STEPS} distinct steps; "
+                             f"{limits().mp_max_segments} segments with at most {limits().mp_max_steps} distinct steps; "
                              f"this one has {t.size - 1} segments")
         m2 = self.A.shape[0]
         n = m2 // 2

@@ -22,13 +22,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
 
-__all__ = ["Times", "as_times", "check_dps", "MAX_DPS"]
+__all__ = ["Times", "as_times", "check_dps"]
 
-#: Largest number of decimal digits ``evaluate(..., dps=)`` accepts.
-MAX_DPS = 10_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,7 +185,7 @@ def _refuse(index: int, value: object) -> None:
 
 
 def check_dps(dps: object) -> int:
-    """``dps`` as an int in 1..MAX_DPS, or a ValueError naming it.
+    """``dps`` as an int in 1..Limits.max_dps, or a ValueError naming it.
 
     >>> check_dps(30)
     30
@@ -196,6 +195,6 @@ def check_dps(dps: object) -> int:
     ValueError: dps must be an integer from 1 to 10000 (decimal digits), got 0
     """
     if isinstance(dps, (bool, np.bool_)) or not isinstance(dps, (int, np.integer)) \
-            or not 1 <= int(dps) <= MAX_DPS:
-        raise ValueError(f"dps must be an integer from 1 to {MAX_DPS} (decimal digits), got {dps!r}")
+            or not 1 <= int(dps) <= limits().max_dps:
+        raise ValueError(f"dps must be an integer from 1 to {limits().max_dps} (decimal digits), got {dps!r}")
     return int(dps)

@@ -15,7 +15,7 @@ What the command line prints and what ``str(solution)`` is.
   the float64 modes, with the rates and frequencies named.
 
 Where the modes come from: :func:`laplace_springs.modes` (exact) up to
-:data:`EXACT_MODES_MAX_COORDINATES` coordinates, else :func:`float_modes`, a float64
+:attr:`~laplace_springs.limits.Limits.exact_modes_max_coordinates` coordinates, else :func:`float_modes`, a float64
 eigen-decomposition (``numpy.linalg.eigh`` after a Cholesky reduction for undamped
 symmetric scenes, the eigenvalues of the first-order matrix otherwise).
 
@@ -46,13 +46,14 @@ from sympy.printing.str import StrPrinter
 from ..analysis.modes import Mode, float_modes, modes
 from ..exact.algebraic import numeric_value
 from ..exact.named import NamedQuantity
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import lam
 from ..numeric.first_order import scene_arrays
 from .named_terms import NamedTerms, reading_order
 
-__all__ = ["DIGITS", "SUMMARY_MODES", "EXACT_MODES_MAX_COORDINATES", "MAX_DEFINITION_TERMS",
+__all__ = ["DIGITS", "SUMMARY_MODES", "MAX_DEFINITION_TERMS",
            "formula_lines", "summary_lines", "modal_formula_lines", "formula_terms",
            "mode_list_of", "participation", "Participation", "unicode_name"]
 
@@ -60,8 +61,6 @@ __all__ = ["DIGITS", "SUMMARY_MODES", "EXACT_MODES_MAX_COORDINATES", "MAX_DEFINI
 DIGITS = 12
 #: Modes a summary lists (by natural frequency) before it gives the count of the rest.
 SUMMARY_MODES = 10
-#: Up to this many coordinates the summary takes the exact modes of :func:`laplace_springs.modes`.
-EXACT_MODES_MAX_COORDINATES = 8
 #: A coefficient's exact definition is written out up to this many terms; a longer one is
 #: described (its degree and number of terms) and left to the LaTeX output.
 MAX_DEFINITION_TERMS = 8
@@ -359,7 +358,7 @@ def participation(scene: Scene, mode_list: Sequence[Any]) -> Participation | Non
 
 
 def mode_list_of(scene: Scene) -> tuple[Mode, ...]:
-    """The modes a summary uses: exact up to EXACT_MODES_MAX_COORDINATES, else float64.
+    """The modes a summary uses: exact up to Limits.exact_modes_max_coordinates, else float64.
 
     Examples
     --------
@@ -367,7 +366,7 @@ def mode_list_of(scene: Scene) -> tuple[Mode, ...]:
     >>> mode_list_of(ls.load_scene("vertical-pair"))
     (Mode(ω_n=1, ζ=0, oscillatory), Mode(ω_n=2, ζ=0, oscillatory))
     """
-    if scene.n <= EXACT_MODES_MAX_COORDINATES:
+    if scene.n <= limits().exact_modes_max_coordinates:
         return modes(scene)
     return float_modes(scene)
 
@@ -384,7 +383,7 @@ def summary_lines(scene: Scene, mode_list: Sequence[Any] | None = None, *, prett
     scene : Scene
         Numeric.
     mode_list : sequence of Mode, optional
-        The modes (by default exact ones up to :data:`EXACT_MODES_MAX_COORDINATES`
+        The modes (by default exact ones up to :attr:`~laplace_springs.limits.Limits.exact_modes_max_coordinates`
         coordinates, else :func:`float_modes`).
     pretty : bool
         Unicode headers (ω_n, ζ, ω_d).

@@ -55,7 +55,7 @@ class CertifiedSolution(Solution):
 
     @cached_property
     def x(self) -> sp.ImmutableMatrix:
-        """x(t): the exact closed form up to EXACT_FORM_MAX_COORDINATES coordinates (built on
+        """x(t): the exact closed form up to Limits.exact_form_max_coordinates coordinates (built on
         first use), else real terms with Float coefficients from the certified poles."""
         exact = self._exact_form
         return exact.x if exact is not None else sp.ImmutableMatrix(closed_form(self.certified))

@@ -27,6 +27,7 @@ from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
+from ..limits import limits
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -35,7 +36,6 @@ from ..numeric.pole_sum import two_diff
 from ..numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
 from ..numeric.times import Times
 from ..output.latex import Output, solution_latex
-from ..policy import ESCALATION_DIGITS, EXACT_FORM_MAX_COORDINATES
 from ..solution import DEFAULT_SAMPLES, Solution, Verification
 
 __all__ = ["ExactSolution", "exact_solution_of"]
@@ -245,7 +245,7 @@ class ExactSolution(Solution):
         return total, bounds
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
-        digits = max(ESCALATION_DIGITS, math.ceil(-math.log10(target)) + 5)
+        digits = max(limits().escalation_digits, math.ceil(-math.log10(target)) + 5)
         total, bounds = self._mp(times, order, digits, self._floor(order))
         values = np.array([[float(v) for v in row] for row in total])
         errors = np.array([[float(b) for b in row] for row in bounds])
@@ -396,8 +396,8 @@ def _size(exprs: Sequence[Any], values: dict, dps: int) -> float:
 
 def exact_solution_of(scene: Scene, *, method: str, target: float) -> ExactSolution | None:
     """The exact solution of a scene solved on another route, where it is affordable
-    (up to :data:`~laplace_springs.policy.EXACT_FORM_MAX_COORDINATES` coordinates)."""
-    if scene.n > EXACT_FORM_MAX_COORDINATES:
+    (up to :attr:`~laplace_springs.limits.Limits.exact_form_max_coordinates` coordinates)."""
+    if scene.n > limits().exact_form_max_coordinates:
         return None
     return ExactSolution(exact_motion(scene), reason=f"exact form of a {method} solution",
                          target=target)

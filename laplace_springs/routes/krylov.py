@@ -13,11 +13,11 @@ from typing import Any
 
 import numpy as np
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..numeric.krylov import KrylovMotion, krylov_motion, krylov_refusal
 from ..numeric.times import Times
-from ..policy import EXACT_FALLBACK_MAX_COORDINATES
 from ..solution import Solution
 from .exact import ExactSolution, exact_solution_of
 
@@ -28,11 +28,11 @@ class KrylovSolution(Solution):
     """Motion x(t) of a numeric scene from double-double Taylor steps of z' = A z.
 
     ``x`` is the exact closed form up to
-    :data:`~laplace_springs.policy.EXACT_FORM_MAX_COORDINATES` coordinates and a
+    :attr:`~laplace_springs.limits.Limits.exact_form_max_coordinates` coordinates and a
     SceneError beyond (the route has no modes: use :meth:`evaluate`). :attr:`poles` is
     partial beyond 200 coordinates (see :meth:`KrylovMotion.poles`). Times whose bound
     misses the target go to the exact route's mpmath evaluation up to
-    :data:`~laplace_springs.policy.EXACT_FALLBACK_MAX_COORDINATES` coordinates; beyond,
+    :attr:`~laplace_springs.limits.Limits.exact_fallback_max_coordinates` coordinates; beyond,
     the bound says how large the error may be (it is near 1e-14 of the solution's size
     for t·ν up to a few hundred).
     """
@@ -71,24 +71,24 @@ class KrylovSolution(Solution):
 
     @property
     def x(self) -> Any:
-        """The exact closed form up to EXACT_FORM_MAX_COORDINATES coordinates; beyond, a
+        """The exact closed form up to Limits.exact_form_max_coordinates coordinates; beyond, a
         SceneError (this route marches in time and has no modes)."""
         exact = self._exact_form
         if exact is None:
             raise SceneError(
                 f"the krylov route marches the {self.scene.n:,}-coordinate scene in time and has "
                 "no closed form: use evaluate(); solve(scene, method='modal') builds the modal form "
-                "(up to NUMERIC_MAX_COORDINATES coordinates)")
+                "(up to Limits.general_modal_max_coordinates coordinates)")
         return exact.x
 
     def latex(self, **kw: Any) -> str:
-        """LaTeX of :attr:`x` (a SceneError beyond EXACT_FORM_MAX_COORDINATES coordinates)."""
+        """LaTeX of :attr:`x` (a SceneError beyond Limits.exact_form_max_coordinates coordinates)."""
         self.x  # noqa: B018 - raises when there is no closed form
         return super().latex(**kw)
 
     @property
     def escalation(self) -> str | None:
-        return "mp" if self.scene.n <= EXACT_FALLBACK_MAX_COORDINATES else None
+        return "mp" if self.scene.n <= limits().exact_fallback_max_coordinates else None
 
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         values, bounds = self.motion.evaluate(times.hi, order)
@@ -97,17 +97,17 @@ class KrylovSolution(Solution):
         return values, bounds
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
-        exact = self._exact_form if self.scene.n <= EXACT_FALLBACK_MAX_COORDINATES else None
+        exact = self._exact_form if self.scene.n <= limits().exact_fallback_max_coordinates else None
         if exact is not None:
             return exact._escalate(times, order, target)
         return self._float(times, order)
 
     def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
-        exact = self._exact_form if self.scene.n <= EXACT_FALLBACK_MAX_COORDINATES else None
+        exact = self._exact_form if self.scene.n <= limits().exact_fallback_max_coordinates else None
         if exact is not None:
             return exact._digits(times, order, dps)
         raise ValueError("evaluate(..., dps=) needs the exact route, which takes at most "
-                         f"EXACT_FALLBACK_MAX_COORDINATES = {EXACT_FALLBACK_MAX_COORDINATES} "
+                         f"Limits.exact_fallback_max_coordinates = {limits().exact_fallback_max_coordinates} "
                          f"coordinates; this scene has {self.scene.n:,}")
 
 

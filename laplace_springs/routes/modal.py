@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..limits import limits
 from ..model.scene import Scene
 from ..numeric.certified import CertifiedPoles, certified_digits, certified_poles, certified_values
 from ..numeric.chebyshev import ChebyshevMotion
@@ -16,9 +17,6 @@ from ..numeric.classical import ClassicalMotion
 from ..numeric.modal import ModalMotion
 from ..numeric.times import Times
 from ..policy import (
-    CERTIFIED_MAX_ORDER,
-    CLOSED_FORM_MAX_COORDINATES,
-    EXACT_FALLBACK_MAX_COORDINATES,
     reference_scale,
 )
 from ..solution import Solution
@@ -36,11 +34,11 @@ class ModalSolution(Solution):
     (real modes of the symmetric eigenproblem of size n, decomposed on first use), or for
     Rayleigh damping a :class:`~laplace_springs.numeric.chebyshev.ChebyshevMotion` (Chebyshev
     expansion in M⁻¹K; ``modes`` and ``x`` are built on request up to
-    :data:`~laplace_springs.numeric.chebyshev.SHAPES_MAX_COORDINATES`). Times whose float64 bound
+    :attr:`~laplace_springs.limits.Limits.classical_max_coordinates`). Times whose float64 bound
     misses the target go to the certified route where the scene allows it (rational
-    entries, 2n ≤ :data:`~laplace_springs.policy.CERTIFIED_MAX_ORDER`), else to the exact
+    entries, 2n ≤ :attr:`~laplace_springs.limits.Limits.certified_max_order`), else to the exact
     route's mpmath evaluation (up to
-    :data:`~laplace_springs.policy.EXACT_FALLBACK_MAX_COORDINATES` coordinates).
+    :attr:`~laplace_springs.limits.Limits.exact_fallback_max_coordinates` coordinates).
     """
 
     method = "modal"
@@ -84,22 +82,22 @@ class ModalSolution(Solution):
 
     @cached_property
     def x(self) -> Any:
-        """x(t), built on first use: the exact closed form up to EXACT_FORM_MAX_COORDINATES
-        coordinates; up to CLOSED_FORM_MAX_COORDINATES a SymPy column of terms
+        """x(t), built on first use: the exact closed form up to Limits.exact_form_max_coordinates
+        coordinates; up to Limits.closed_form_max_coordinates a SymPy column of terms
         t^p e^{αt}(a cos βt + b sin βt) with Float coefficients; beyond, the same terms as a
         :class:`~laplace_springs.numeric.classical.ModalForm` (a sum over modes with
         coefficient vectors: ``x[i]`` is row i, ``x.as_matrix()`` the whole column)."""
         exact = self._exact_form
         if exact is not None:
             return exact.x
-        if self.scene.n <= CLOSED_FORM_MAX_COORDINATES:
+        if self.scene.n <= limits().closed_form_max_coordinates:
             return self.motion.closed_form()
         return self.motion.modal_form()
 
     def latex(self, **kw: Any) -> str:
-        """LaTeX of x(t); for a scene beyond CLOSED_FORM_MAX_COORDINATES a summary of its
+        """LaTeX of x(t); for a scene beyond Limits.closed_form_max_coordinates a summary of its
         modal form (``x.as_matrix()`` gives the full column)."""
-        if self._exact_form is None and self.scene.n > CLOSED_FORM_MAX_COORDINATES:
+        if self._exact_form is None and self.scene.n > limits().closed_form_max_coordinates:
             form = self.x
             return (f"x(t) = \\sum_{{j=1}}^{{{len(form.powers)}}} t^{{p_j}} e^{{\\alpha_j t}}"
                     f"\\left(a_j \\cos \\beta_j t + b_j \\sin \\beta_j t\\right)"
@@ -110,13 +108,13 @@ class ModalSolution(Solution):
     def _certified(self) -> CertifiedPoles | None:
         if self._given_certified is not None:
             return self._given_certified
-        if 2 * self.scene.n > CERTIFIED_MAX_ORDER:
+        if 2 * self.scene.n > limits().certified_max_order:
             return None
         return certified_poles(self.scene)
 
     @cached_property
     def _exact_fallback(self) -> ExactSolution | None:
-        if self.scene.n > EXACT_FALLBACK_MAX_COORDINATES:
+        if self.scene.n > limits().exact_fallback_max_coordinates:
             return None
         return self._exact_form
 
@@ -124,7 +122,7 @@ class ModalSolution(Solution):
     def escalation(self) -> str | None:
         if self._certified is not None:
             return "certified"
-        return "mp" if self.scene.n <= EXACT_FALLBACK_MAX_COORDINATES else None
+        return "mp" if self.scene.n <= limits().exact_fallback_max_coordinates else None
 
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         values = self.motion.values(times.hi, order)

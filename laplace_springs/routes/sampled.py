@@ -19,14 +19,14 @@ import numpy as np
 import sympy as sp
 
 from ..exact.assembly import exact_motion
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.sampled import formula_part
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from ..numeric.first_order import scene_arrays
-from ..numeric.sampled import MP_MAX_SEGMENTS, MP_MAX_STEPS, SampledInput, sampled_inputs
+from ..numeric.sampled import SampledInput, sampled_inputs
 from ..numeric.times import Times
-from ..policy import ESCALATION_DIGITS
 from ..solution import Solution, Verification
 from .exact import ExactSolution
 
@@ -40,7 +40,7 @@ class SampledSolution(Solution):
     ``method`` is the base route's name + ``"+sampled"``. ``x`` raises a SceneError (no
     closed form); ``evaluate`` adds the two parts and their bounds; times whose bound
     misses the target are recomputed in mpmath when the histories are short enough
-    (:data:`~laplace_springs.numeric.sampled.MP_MAX_SEGMENTS` segments).
+    (:attr:`~laplace_springs.limits.Limits.mp_max_segments` segments).
     """
 
     def __init__(self, scene: Scene, base: Solution, *, reason: str,
@@ -79,8 +79,8 @@ class SampledSolution(Solution):
 
     @property
     def _mp_ok(self) -> bool:
-        return all(r.data.times.size - 1 <= MP_MAX_SEGMENTS
-                   and np.unique(np.diff(r.data.times)).size <= MP_MAX_STEPS for r in self.inputs)
+        return all(r.data.times.size - 1 <= limits().mp_max_segments
+                   and np.unique(np.diff(r.data.times)).size <= limits().mp_max_steps for r in self.inputs)
 
     @property
     def escalation(self) -> str | None:
@@ -108,7 +108,7 @@ class SampledSolution(Solution):
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         if not self._mp_ok:
             return self._float(times, order)
-        values, bounds = self._digits(times, order, ESCALATION_DIGITS)
+        values, bounds = self._digits(times, order, limits().escalation_digits)
         as_float = np.vectorize(float, otypes=[float])
         rounded = as_float(values)
         return rounded, as_float(bounds) + np.finfo(float).eps * np.abs(rounded)
@@ -116,7 +116,7 @@ class SampledSolution(Solution):
     def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
         if not self._mp_ok:
             raise ValueError(f"evaluate(..., dps=) runs a sampled history in mpmath, which takes at "
-                             f"most {MP_MAX_SEGMENTS} segments with {MP_MAX_STEPS} distinct steps")
+                             f"most {limits().mp_max_segments} segments with {limits().mp_max_steps} distinct steps")
         values, bounds = self.base._digits(times, order, dps)
         exact = [Fraction(times.exact(i)) for i in range(len(times))]
         with mpmath.workdps(dps + 5):

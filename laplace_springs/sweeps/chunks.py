@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..policy import check_target
-from ..solve import solve
+from ..solving import solve
 from .compile import CompiledScene
 from .kernels import UNIT, UNIT_EXTENDED, evaluate_block
 

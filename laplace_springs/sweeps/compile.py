@@ -22,6 +22,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.resolvent import resolvent
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.forcing import input_transform
 from ..model.numbers import shown
@@ -30,8 +31,6 @@ from ..model.symbols import lam
 
 __all__ = ["CompiledScene", "compile_scene", "parameter_rows"]
 
-#: Largest scene (coordinates) the sweep compiles: the symbolic adjugate grows quickly.
-SWEEP_MAX_COORDINATES = 8
 
 
 def _absolute(expr: sp.Expr, symbols: Sequence[sp.Symbol]) -> sp.Expr | None:
@@ -234,7 +233,7 @@ def compile_scene(scene: Scene) -> CompiledScene:
     Parameters
     ----------
     scene : Scene
-        At most :data:`SWEEP_MAX_COORDINATES` coordinates; forces (if any) without delays.
+        At most :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates` coordinates; forces (if any) without delays.
 
     Returns
     -------
@@ -258,9 +257,9 @@ def compile_scene(scene: Scene) -> CompiledScene:
     if scene.sampled is not None:
         raise SceneError("sweep: the scene has sampled forces; sweep takes forces given as "
                          "formulas, solve such scenes one by one with ls.solve(scene.subs(...))")
-    if scene.n > SWEEP_MAX_COORDINATES:
+    if scene.n > limits().sweep_max_coordinates:
         raise SceneError(f"sweep: the scene has {scene.n} coordinates, more than "
-                         f"{SWEEP_MAX_COORDINATES} (SWEEP_MAX_COORDINATES); its symbolic "
+                         f"{limits().sweep_max_coordinates} (Limits.sweep_max_coordinates); its symbolic "
                          "adjugate would be too large")
     R = resolvent(scene)
     denominator = R.determinant.as_expr()

@@ -2,7 +2,7 @@
 
 For each set the roots of D come from the eigenvalues of its companion matrix (one
 batched LAPACK call for the whole chunk) and are polished by Newton's method on the
-exact-coefficient polynomial. Roots farther than :data:`CLUSTER_GAP` · ρ (ρ the largest
+exact-coefficient polynomial. Roots farther than :attr:`~laplace_springs.limits.Limits.cluster_gap` · ρ (ρ the largest
 modulus of a root) from all others are *isolated*: their residue N(r)/D'(r), with D'(r) as the
 product lead · Π(r − r_k), gives the term N(r)/D'(r) · e^{rt}; a complex pair is summed
 as 2·Re of one of its roots. Closer roots form a *cluster* (critical damping, an
@@ -38,10 +38,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CLUSTER_GAP", "Block", "evaluate_block", "polynomial_roots"]
+from ..limits import limits
 
-#: Roots closer than CLUSTER_GAP · (largest modulus of a root) are evaluated together as a cluster.
-CLUSTER_GAP = 5e-2
+__all__ = ["Block", "evaluate_block", "polynomial_roots"]
+
 #: Unit roundoff of float64.
 UNIT = 2.0**-53
 #: Unit roundoff of numpy.longdouble (float64's on platforms without extended precision).
@@ -114,9 +114,9 @@ def polynomial_roots(den: np.ndarray) -> np.ndarray:
 
 def _clusters(roots: np.ndarray, radius: np.ndarray) -> np.ndarray:
     """Cluster labels (P, N): the smallest index reachable through links closer than
-    CLUSTER_GAP · radius."""
+    Limits.cluster_gap · radius."""
     P, N = roots.shape
-    close = np.abs(roots[:, :, None] - roots[:, None, :]) <= CLUSTER_GAP * radius[:, None, None]
+    close = np.abs(roots[:, :, None] - roots[:, None, :]) <= limits().cluster_gap * radius[:, None, None]
     reach = close.copy()
     for _ in range(max(1, int(np.ceil(np.log2(max(N, 2)))))):
         reach = reach | (np.matmul(reach.astype(np.int8), reach.astype(np.int8)) > 0)

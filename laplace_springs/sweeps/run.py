@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import shown
 from ..model.scene import Scene
@@ -21,8 +22,6 @@ from .distributed import run_on_client
 
 __all__ = ["SweepResult", "ParameterGrid", "grid", "sweep"]
 
-#: Memory a chunk's largest array may take (bytes): complex (sets, roots, times).
-CHUNK_BYTES = 32 * 2**20
 
 
 class ParameterGrid(dict):  # type: ignore[type-arg,unused-ignore]
@@ -134,7 +133,7 @@ def _chunk_size(chunk: int | None, compiled: CompiledScene, T: int) -> int:
             raise SceneError(f"sweep: chunk must be a positive integer, got {shown(chunk)}")
         return int(chunk)
     per_set = 16 * max(compiled.degree, 1) * max(T, 1) * max(len(compiled.numerators), 1)
-    return max(64, min(50_000, CHUNK_BYTES // per_set))
+    return max(64, min(50_000, limits().chunk_bytes // per_set))
 
 
 def _progress(progress: Any) -> Callable[[int, int], None] | None:

@@ -21,8 +21,9 @@ from laplace_springs.bench.reference import reference_motion, relative_error
 from laplace_springs.exact import assembly
 from laplace_springs.exact.algebraic import numeric_value
 from laplace_springs.exact.assembly import exact_motion
-from laplace_springs.exact.partial_fractions import MAX_EXACT_FACTOR_DEGREE, partial_fractions
-from laplace_springs.exact.screening import MAX_EXACT_COORDINATES, screen_scene
+from laplace_springs.exact.partial_fractions import partial_fractions
+from laplace_springs.exact.screening import screen_scene
+from laplace_springs.limits import limits
 
 s, t = sp.symbols("s t")
 a = sp.Symbol("a")
@@ -186,7 +187,7 @@ def test_degree_200_transform_is_refused_at_once():
     # s**200 + 2s + 2 is irreducible (Eisenstein at 2)
     message, seconds = refused(lambda: ls.inverse_laplace(1 / (s**200 + 2 * s + 2), s, t))
     assert seconds < HANG_GUARD
-    assert "degree 200" in message and f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}" in message
+    assert "degree 200" in message and f"Limits.max_exact_factor_degree = {limits().max_exact_factor_degree}" in message
     assert "modal" in message and "certified" in message
 
 
@@ -198,7 +199,7 @@ def test_issue_example_names_the_large_factor():
 
 
 def test_the_limit_is_exact():
-    top = MAX_EXACT_FACTOR_DEGREE
+    top = limits().max_exact_factor_degree
     partial_fractions(1 / (s**top + 2 * s + 2), s, closed_form=True)  # allowed
     message, _ = refused(lambda: partial_fractions(1 / (s**(top + 1) + 2 * s + 2), s,
                                                    closed_form=True))
@@ -206,7 +207,7 @@ def test_the_limit_is_exact():
 
 
 def test_a_factor_at_the_limit_inverts_exactly():
-    top = MAX_EXACT_FACTOR_DEGREE
+    top = limits().max_exact_factor_degree
     f = ls.inverse_laplace(1 / (s**top + 2 * s + 2), s, t)
     with mpmath.workdps(40):  # at t = 6, f is not tiny (near t = 0 it is t**(top-1)/(top-1)!)
         reference = mpmath.invertlaplace(lambda z: 1 / (z**top + 2 * z + 2), 6, method="talbot")
@@ -228,7 +229,7 @@ def test_thirteen_mass_chain_is_refused_at_once():
     scene = irreducible_chain(13)
     message, seconds = refused(lambda: ls.solve(scene, method="exact"))
     assert seconds < HANG_GUARD
-    assert "degree 26" in message and f"MAX_EXACT_FACTOR_DEGREE = {MAX_EXACT_FACTOR_DEGREE}" in message
+    assert "degree 26" in message and f"Limits.max_exact_factor_degree = {limits().max_exact_factor_degree}" in message
     assert "method='modal'" in message
 
 
@@ -242,10 +243,10 @@ def test_forced_thirteen_mass_chain_is_refused_at_once():
 
 
 def test_large_scene_is_refused_on_size():
-    n = MAX_EXACT_COORDINATES + 1
+    n = limits().max_exact_coordinates + 1
     message, seconds = refused(lambda: ls.solve(chain([1] * n, [1] * (n + 1)), method="exact"))
     assert seconds < HANG_GUARD
-    assert f"MAX_EXACT_COORDINATES = {MAX_EXACT_COORDINATES}" in message and str(n) in message
+    assert f"Limits.max_exact_coordinates = {limits().max_exact_coordinates}" in message and str(n) in message
 
 
 def test_nine_mass_chain_whose_factors_are_small_still_solves():

@@ -322,7 +322,7 @@ def test_round_trip_with_the_forward_transform(f):
     (E(-s**2) / s, "not a rational function of s and exponentials"),
     (sp.sqrt(s) * E(-s), "not a rational function of s and exponentials"),
     (E(-s) / (s**3 + sp.Symbol("a", positive=True) * s + 1), "symbolic coefficients"),
-    (1 / (s * (1 - E(-s)) * (1 - E(-1.000001 * s))), "common unit 1/1000000: a polynomial of degree .* MAX_DELAY_POWER"),
+    (1 / (s * (1 - E(-s)) * (1 - E(-1.000001 * s))), "common unit 1/1000000: a polynomial of degree .* Limits.max_delay_power"),
 ])
 def test_refusals_are_clear(F, match):
     start = time.perf_counter()

@@ -21,19 +21,16 @@ import sympy
 
 import laplace_springs as ls
 from laplace_springs.bench.reference import reference_motion
+from laplace_springs.limits import limits, using_limits
 from laplace_springs.model import scene as scene_module
 from laplace_springs.model import scene_files
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.scene import (
-    DENSE_STORAGE_MAX_COORDINATES,
-    MAX_COMPONENTS,
-    MAX_COORDINATES,
-    MAX_MATRIX_INPUT_SIZE,
     ExactSparseMatrix,
     Scene,
 )
-from laplace_springs.model.scene_files import MAX_FILE_BYTES, load_scene, scene_from_toml_text
-from laplace_springs.numeric.first_order import NUMERIC_MAX_COORDINATES, scene_arrays
+from laplace_springs.model.scene_files import load_scene, scene_from_toml_text
+from laplace_springs.numeric.first_order import scene_arrays
 
 R = sympy.Rational
 
@@ -90,7 +87,7 @@ def tridiagonal(n: int, diagonal: R, beside: R) -> dict[tuple[int, int], R]:
 
 
 def test_chain_beyond_the_dense_threshold_is_sparse_with_tridiagonal_entries():
-    n = DENSE_STORAGE_MAX_COORDINATES + 44
+    n = limits().dense_storage_max_coordinates + 44
     scene = scene_from_toml_text(chain_toml(n))
     assert all(isinstance(m, ExactSparseMatrix) for m in (scene.M, scene.C, scene.K))
     assert isinstance(scene.K, sympy.ImmutableSparseMatrix)
@@ -103,7 +100,7 @@ def test_chain_beyond_the_dense_threshold_is_sparse_with_tridiagonal_entries():
 
 
 def test_chain_at_the_dense_threshold_stays_dense():
-    scene = scene_from_toml_text(chain_toml(DENSE_STORAGE_MAX_COORDINATES))
+    scene = scene_from_toml_text(chain_toml(limits().dense_storage_max_coordinates))
     assert all(type(m) is sympy.ImmutableMatrix for m in (scene.M, scene.C, scene.K))
 
 
@@ -157,9 +154,9 @@ def small_chain() -> Scene:
 
 
 @pytest.fixture
-def sparse_storage(monkeypatch):
+def sparse_storage(set_limits):
     """Every scene of more than one coordinate stored sparse."""
-    monkeypatch.setattr(scene_module, "DENSE_STORAGE_MAX_COORDINATES", 1)
+    set_limits(dense_storage_max_coordinates=1)
 
 
 @pytest.mark.parametrize("method", ["auto", "exact", "modal", "certified"])
@@ -181,15 +178,9 @@ def test_sparse_storage_solves_like_the_reference(sparse_storage, method):
     assert np.max(np.abs(values - expected)) < 1e-12
 
 
-class monkeypatch_dense:
+def monkeypatch_dense():
     """Dense storage again inside the fixture (a context manager)."""
-
-    def __enter__(self):
-        self.saved = scene_module.DENSE_STORAGE_MAX_COORDINATES
-        scene_module.DENSE_STORAGE_MAX_COORDINATES = 256
-
-    def __exit__(self, *exc):
-        scene_module.DENSE_STORAGE_MAX_COORDINATES = self.saved
+    return using_limits(dense_storage_max_coordinates=256)
 
 
 def test_sparse_normalized_and_subs(sparse_storage):
@@ -229,7 +220,7 @@ def test_sparse_checks_of_the_mass_matrix(sparse_storage):
 
 
 def test_massless_nodes_of_a_large_chain():
-    n = DENSE_STORAGE_MAX_COORDINATES + 100
+    n = limits().dense_storage_max_coordinates + 100
     held = chain_toml(n).replace('m100 = "1"', 'm100 = "0"')
     assert scene_from_toml_text(held).M.todok().get((99, 99)) is None  # m100 is coordinate 99
     loose = chain_toml(n, damping=None).replace('m100 = "1"', 'm100 = "0"').replace(
@@ -274,15 +265,15 @@ def test_exact_sparse_matrix_behaves_as_sympy_sparse():
 
 
 def test_numeric_routes_refuse_scenes_beyond_their_size_at_once():
-    n = 2 * NUMERIC_MAX_COORDINATES
+    n = 2 * limits().general_modal_max_coordinates
     # a dashpot from m1 to the ground besides those on the links: damping that is not
     # classical, for the general modal route only, which holds dense 2n x 2n matrices
     text = chain_toml(n).replace("[dashpots]\n", '[dashpots]\nground = ["m1", "wall", "1/3"]\n')
     scene = scene_from_toml_text(text)
     start = time.perf_counter()
-    with pytest.raises(SceneError, match=rf"n = {n:,} coordinates, more than NUMERIC_MAX_COORDINATES"):
+    with pytest.raises(SceneError, match=rf"n = {n:,} coordinates, more than Limits.general_modal_max_coordinates"):
         ls.solve(scene, method="modal")
-    with pytest.raises(SceneError, match="NUMERIC_MAX_COORDINATES"):
+    with pytest.raises(SceneError, match="Limits.general_modal_max_coordinates"):
         scene_arrays(scene)
     assert time.perf_counter() - start < 10
     # without it: dashpots 1/10 beside springs 2 on every link, C = K/20 (Rayleigh damping),
@@ -311,10 +302,9 @@ def test_numeric_routes_refuse_scenes_beyond_their_size_at_once():
 
 def test_limits_are_documented():
     doc = scene_files.__doc__
-    assert "MAX_FILE_BYTES" in doc and "16 MiB" in doc and MAX_FILE_BYTES == 16 * 2**20
-    for name, value in (("MAX_COORDINATES", MAX_COORDINATES), ("MAX_COMPONENTS", MAX_COMPONENTS),
-                        ("MAX_MATRIX_INPUT_SIZE", MAX_MATRIX_INPUT_SIZE)):
-        assert name in doc and f"({value:,})" in doc
+    assert "Limits.max_file_bytes" in doc and "16 MiB" in doc and limits().max_file_bytes == 16 * 2**20
+    for field in ("max_coordinates", "max_components", "max_matrix_input_size"):
+        assert f"Limits.{field}" in doc and f"({getattr(limits(), field):,})" in doc
 
 
 def no_parsing(monkeypatch):
@@ -324,11 +314,11 @@ def no_parsing(monkeypatch):
 
 
 def test_too_many_masses_refused_before_parsing(monkeypatch):
-    text = chain_toml(MAX_COORDINATES + 1, damping=None)
+    text = chain_toml(limits().max_coordinates + 1, damping=None)
     no_parsing(monkeypatch)
     start = time.perf_counter()
     with pytest.raises(SceneError, match=r"big.toml: \[masses\]: 100,001 masses, more than the limit "
-                                         r"100,000 \(MAX_COORDINATES\)"):
+                                         r"100,000 \(Limits.max_coordinates\)"):
         scene_from_toml_text(text, source="big.toml")
     assert time.perf_counter() - start < 5  # about 0.05 s
 
@@ -336,12 +326,12 @@ def test_too_many_masses_refused_before_parsing(monkeypatch):
 def test_too_many_components_refused_before_parsing(monkeypatch):
     masses = "[masses]\n" + "".join(f"m{i} = 1\n" for i in range(100))
     springs = "[springs]\n" + "".join(f'k{i} = ["m{i % 100}", "wall", 1]\n'
-                                      for i in range(MAX_COMPONENTS // 2 + 1))
+                                      for i in range(limits().max_components // 2 + 1))
     dashpots = "[dashpots]\n" + "".join(f'c{i} = ["m{i % 100}", "wall", 1]\n'
-                                        for i in range(MAX_COMPONENTS // 2))
+                                        for i in range(limits().max_components // 2))
     no_parsing(monkeypatch)
     with pytest.raises(SceneError, match=r"\[springs\] and \[dashpots\]: 300,001 components, more "
-                                         r"than the limit 300,000 \(MAX_COMPONENTS\)"):
+                                         r"than the limit 300,000 \(Limits.max_components\)"):
         scene_from_toml_text(masses + springs + dashpots)
 
 
@@ -349,46 +339,46 @@ def test_counts_checked_exactly_after_parsing_and_before_conversion(monkeypatch)
     def refuse(*args, **kwargs):
         raise AssertionError("an entry was converted")
     monkeypatch.setattr(scene_module, "to_exact", refuse)
-    inline = "masses = {" + ", ".join(f"m{i} = 1" for i in range(MAX_COORDINATES + 1)) + "}\n"
+    inline = "masses = {" + ", ".join(f"m{i} = 1" for i in range(limits().max_coordinates + 1)) + "}\n"
     with pytest.raises(SceneError, match=r"masses: 100,001 masses, more than the limit 100,000"):
         scene_from_toml_text(inline)
     with pytest.raises(SceneError, match=r"springs and dashpots: 300,001 components"):
         Scene.from_components(masses={"m": 1},
-                              springs=[(f"k{i}", "m", "wall", 1) for i in range(MAX_COMPONENTS + 1)])
+                              springs=[(f"k{i}", "m", "wall", 1) for i in range(limits().max_components + 1)])
     with pytest.raises(SceneError, match=r"M: 100,001 coordinates, more than the limit 100,000"):
-        Scene.from_matrices(M=sympy.SparseMatrix(MAX_COORDINATES + 1, MAX_COORDINATES + 1, {}),
+        Scene.from_matrices(M=sympy.SparseMatrix(limits().max_coordinates + 1, limits().max_coordinates + 1, {}),
                             x0=[], v0=[])
 
 
 def test_matrix_forms_are_limited_and_point_at_components(monkeypatch):
-    n = MAX_MATRIX_INPUT_SIZE + 1
+    n = limits().max_matrix_input_size + 1
     row = "[" + ", ".join(["0"] * n) + "]"
     text = "[matrices]\nM = [" + ",\n".join([row] * n) + "]\n"
     no_parsing(monkeypatch)
     with pytest.raises(SceneError, match=r"\[matrices\] M: 501 entries in its first row, more than "
-                                         r"the limit 500 \(MAX_MATRIX_INPUT_SIZE\); describe .* "
+                                         r"the limit 500 \(Limits.max_matrix_input_size\); describe .* "
                                          r"masses, springs and dashpots"):
         scene_from_toml_text(text)
     monkeypatch.undo()
     with pytest.raises(SceneError, match=r"A: 501 rows given entry by entry, more than the limit "
-                                         r"500 \(MAX_MATRIX_INPUT_SIZE\); describe .*from_components"):
+                                         r"500 \(Limits.max_matrix_input_size\); describe .*from_components"):
         Scene.from_normalized(A=np.zeros((n, n)), x0=[0] * n, v0=[0] * n)
-    with pytest.raises(SceneError, match="MAX_MATRIX_INPUT_SIZE"):
+    with pytest.raises(SceneError, match="Limits.max_matrix_input_size"):
         Scene.from_matrices(M=[[1] * n] * n, x0=[0] * n, v0=[0] * n)
 
 
 def test_file_size_is_limited_before_reading_it_all(tmp_path):
     path = tmp_path / "huge.toml"
-    path.write_bytes(b"# " + b"x" * MAX_FILE_BYTES + b"\n")
-    with pytest.raises(SceneError, match=r"more than 16,777,216 bytes, the limit MAX_FILE_BYTES"):
+    path.write_bytes(b"# " + b"x" * limits().max_file_bytes + b"\n")
+    with pytest.raises(SceneError, match=r"more than 16,777,216 bytes, the limit Limits.max_file_bytes"):
         load_scene(path)
-    with pytest.raises(SceneError, match=r"MAX_FILE_BYTES"):
-        scene_from_toml_text("#" * (MAX_FILE_BYTES + 1))
+    with pytest.raises(SceneError, match=r"Limits.max_file_bytes"):
+        scene_from_toml_text("#" * (limits().max_file_bytes + 1))
 
 
 @pytest.mark.skipif(not __import__("os").path.exists("/dev/zero"), reason="needs /dev/zero")
 def test_an_endless_file_is_refused():
-    with pytest.raises(SceneError, match="MAX_FILE_BYTES"):
+    with pytest.raises(SceneError, match="Limits.max_file_bytes"):
         load_scene("/dev/zero")
 
 

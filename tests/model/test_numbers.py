@@ -14,11 +14,10 @@ import numpy as np
 import pytest
 import sympy
 
+from laplace_springs.limits import limits
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.numbers import (
     ALLOWED_FUNCTIONS,
-    MAX_EXPRESSION_LENGTH,
-    MAX_NESTING_DEPTH,
     TIME,
     declare_parameters,
     parse_expression,
@@ -287,17 +286,17 @@ def test_message_names_entry_and_value():
 
 
 def test_text_length_is_limited():
-    with pytest.raises(SceneError, match=f"more than {MAX_EXPRESSION_LENGTH}"):
-        to_exact("1" + "+1" * MAX_EXPRESSION_LENGTH, "e")
+    with pytest.raises(SceneError, match=f"more than {limits().max_expression_length}"):
+        to_exact("1" + "+1" * limits().max_expression_length, "e")
 
 
 def test_nesting_depth_is_limited():
-    depth = MAX_NESTING_DEPTH + 1
+    depth = limits().max_nesting_depth + 1
     with pytest.raises(SceneError, match="nesting deeper"):
         to_exact("(" * depth + "1" + ")" * depth, "e")
     with pytest.raises(SceneError, match="nesting deeper"):
         to_exact("-" * (depth + 1) + "1", "e")
-    ok = MAX_NESTING_DEPTH - 1
+    ok = limits().max_nesting_depth - 1
     assert to_exact("(" * ok + "1" + ")" * ok, "e") == 1
 
 

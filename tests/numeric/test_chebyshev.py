@@ -134,11 +134,11 @@ def test_poles_modes_and_x_of_a_chebyshev_solution():
     assert np.max(np.abs(sol.x(np.array([2.5])) - reference)) < 1e-12
 
 
-def test_shapes_beyond_their_size_are_refused_with_the_reason(monkeypatch):
-    monkeypatch.setattr(chebyshev, "SHAPES_MAX_COORDINATES", 200)
+def test_shapes_beyond_their_size_are_refused_with_the_reason(set_limits):
+    set_limits(classical_max_coordinates=200)
     sol = ls.solve(chain(250))
     assert sol.evaluate([1.0]).shape == (250, 1)
-    with pytest.raises(SceneError, match="SHAPES_MAX_COORDINATES = 200"):
+    with pytest.raises(SceneError, match="Limits.classical_max_coordinates = 200"):
         sol.x
 
 
@@ -148,9 +148,9 @@ def test_policy_routes_rayleigh_and_refuses_other_large_classical_scenes():
     assert big.modal_kind == "chebyshev" and policy.route_for("auto", big).route == "modal"
     other = policy.SceneFacts(n=5_000, symbolic=False, forced=False, rational=True,
                               first_order=True, classical=True, rayleigh=False)
-    with pytest.raises(SceneError, match="CLASSICAL_MAX_COORDINATES = 4,000"):
+    with pytest.raises(SceneError, match="Limits.classical_max_coordinates = 4,000"):
         policy.route_for("modal", other)
-    small = policy.SceneFacts(n=policy.CHEBYSHEV_MIN_COORDINATES - 1, symbolic=False,
+    small = policy.SceneFacts(n=policy.limits().chebyshev_min_coordinates - 1, symbolic=False,
                               forced=False, rational=True, first_order=True, classical=True,
                               rayleigh=True)
     assert small.modal_kind == "classical"
@@ -184,12 +184,12 @@ def test_free_free_chain_with_rigid_motion_matches_the_reference():
 
 def test_verify_runs_on_a_scene_beyond_the_dense_size_limit_and_catches_a_wrong_motion():
     """verify() takes its products over the scene's nonzero entries: a 2,000-mass chain
-    (twice NUMERIC_MAX_COORDINATES, where dense float arrays are refused) verifies; the same
+    (twice Limits.general_modal_max_coordinates, where dense float arrays are refused) verifies; the same
     motion checked against a chain with stiffer springs does not."""
-    scene = chain(2 * policy.NUMERIC_MAX_COORDINATES)
+    scene = chain(2 * policy.limits().general_modal_max_coordinates)
     sol = ls.solve(scene)
     assert sol.verify()
-    stiffer = chain(2 * policy.NUMERIC_MAX_COORDINATES, k=2)
+    stiffer = chain(2 * policy.limits().general_modal_max_coordinates, k=2)
     wrong = type(sol).__new__(type(sol))
     wrong.__dict__.update(sol.__dict__)
     wrong.scene = stiffer  # the motion of the first chain is not one of the stiffer chain

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import laplace_springs as ls
-from laplace_springs import Scene, policy
+from laplace_springs import Scene
 from laplace_springs.bench.reference import reference_motion
 from laplace_springs.numeric import classical
 from laplace_springs.numeric.chebyshev import ChebyshevMotion
@@ -61,9 +61,9 @@ TIMES = np.array([0.0, 0.5, 3.0, 17.0, 60.0])
 FLOAT_REFERENCE = 1e-14
 
 
-def test_rayleigh_chain_matches_its_analytic_modes_and_the_bound_holds(monkeypatch):
+def test_rayleigh_chain_matches_its_analytic_modes_and_the_bound_holds(set_limits):
     # the eigen route: "auto" sends Rayleigh scenes from CHEBYSHEV_MIN_COORDINATES to Chebyshev
-    monkeypatch.setattr(policy, "CHEBYSHEV_MIN_COORDINATES", 10**6)
+    set_limits(chebyshev_min_coordinates=10**6)
     n = 60
     sol = ls.solve(chain(n, a="1/50", b="1/20"))
     assert isinstance(sol.motion, ClassicalMotion) and "classically damped" in sol.reason
@@ -73,8 +73,8 @@ def test_rayleigh_chain_matches_its_analytic_modes_and_the_bound_holds(monkeypat
     assert np.all(bounds + FLOAT_REFERENCE >= error)
 
 
-def test_undamped_chain_matches_its_analytic_modes(monkeypatch):
-    monkeypatch.setattr(policy, "CHEBYSHEV_MIN_COORDINATES", 10**6)  # the eigen route
+def test_undamped_chain_matches_its_analytic_modes(set_limits):
+    set_limits(chebyshev_min_coordinates=10**6)  # the eigen route
     n = 40
     sol = ls.solve(chain(n, a="0", b="0"), method="modal")
     assert isinstance(sol.motion, ClassicalMotion)
@@ -154,10 +154,10 @@ def test_x_beyond_the_closed_form_size_is_a_modal_form():
 
 
 @pytest.mark.parametrize("route", ["eigen", "chebyshev"])
-def test_large_chain_matches_its_analytic_modes(route, monkeypatch):
+def test_large_chain_matches_its_analytic_modes(route, set_limits):
     n = 1000
     if route == "eigen":  # Rayleigh chains this large go to the Chebyshev route by default
-        monkeypatch.setattr(policy, "CHEBYSHEV_MIN_COORDINATES", 10**6)
+        set_limits(chebyshev_min_coordinates=10**6)
     sol = ls.solve(chain(n))
     assert isinstance(sol.motion, ClassicalMotion if route == "eigen" else ChebyshevMotion)
     times = np.linspace(0, 100, 50)

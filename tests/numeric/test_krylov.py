@@ -17,6 +17,7 @@ import pytest
 
 from laplace_springs import Scene, SceneError
 from laplace_springs.bench.reference import reference_motion
+from laplace_springs.limits import limits
 from laplace_springs.numeric.krylov import krylov_refusal
 from laplace_springs.routes.krylov import krylov_ok, krylov_solution
 
@@ -113,20 +114,20 @@ def test_refusals_name_the_reason() -> None:
 
 def test_auto_takes_the_krylov_route_for_a_large_network() -> None:
     """A chain with one extra wall dashpot (damping not classical) above
-    policy.KRYLOV_AUTO_MIN_COORDINATES: "auto" takes the krylov route, and its values hold
+    policy.Limits.krylov_auto_min_coordinates: "auto" takes the krylov route, and its values hold
     their bound against the benchmark's independent double-double Taylor reference (SciPy's
     dense expm is off by 4e-13 at t = 40 on this scene, above the route's bound)."""
     import laplace_springs as ls
-    from laplace_springs.policy import KRYLOV_AUTO_MIN_COORDINATES
+
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
     try:
         import bench_scaling as bench
     finally:
         sys.path.pop(0)
-    spec = bench.scene_spec("chain-wall-dashpot", KRYLOV_AUTO_MIN_COORDINATES + 50)
+    spec = bench.scene_spec("chain-wall-dashpot", limits().krylov_auto_min_coordinates + 50)
     sol = ls.solve(bench.build_scene(spec))
-    assert sol.method == "krylov" and "KRYLOV_AUTO_MIN_COORDINATES" in sol.reason
+    assert sol.method == "krylov" and "Limits.krylov_auto_min_coordinates" in sol.reason
     times = np.array([0.0, 3.0, 17.5, 40.0])
     reference = bench.DoubleDoubleTaylor(spec).motion(times)
     values, bounds = sol.evaluate(times, return_error=True)

@@ -10,9 +10,10 @@ import mpmath
 import numpy as np
 import pytest
 
+from laplace_springs.limits import limits
 from laplace_springs.model.sampled import sampled
 from laplace_springs.model.scene import Scene
-from laplace_springs.policy import TARGET, column_scales, escalate_columns
+from laplace_springs.policy import column_scales, escalate_columns
 from laplace_springs.routes.sampled import solve_sampled
 
 TWO_MASS = {"M": [[1, 0], [0, "4/5"]], "C": [["19/10", "-7/5"], ["-7/5", "23/10"]],
@@ -160,7 +161,7 @@ def test_agrees_with_lsim_on_its_grid():
     _, y, _ = signal.lsim(system, U, T)
     ours, bounds = solve_sampled(scene).evaluate(T, return_error=True)
     assert np.max(np.abs(ours - y.T)) <= 1e-12 * np.max(np.abs(y))
-    assert np.max(bounds) <= TARGET * np.max(np.abs(y))
+    assert np.max(bounds) <= limits().target * np.max(np.abs(y))
 
 
 def _augmented(MK, MC, Mi, n, j):
@@ -290,7 +291,7 @@ def test_long_uniform_history_meets_the_target_with_its_own_bound(name, kind):
     grid = np.concatenate([T, rng.uniform(0, 100, T.size)])
     values, bounds = sol.evaluate(grid, return_error=True, target=0.5)   # float64 only
     floor = sol._floor(0)
-    assert not escalate_columns(values, bounds, floor, TARGET).any(), \
+    assert not escalate_columns(values, bounds, floor, limits().target).any(), \
         np.max(bounds / column_scales(values, floor))
     times = np.sort(np.concatenate([T[[1, 2_500, 7_777, 10_000]], grid[[10_001, 15_000, 20_001]]]))
     ref = fast_reference(M, C, K, [(0, (T, U, kind))], times)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .exact.assembly import exact_motion
+from .limits import limits
 from .model.errors import SceneError
 from .model.sampled import formula_part
 from .model.scene import Scene
@@ -21,8 +22,6 @@ from .numeric.krylov import krylov_refusal
 from .numeric.modal import decompose_modal
 from .numeric.times import as_times
 from .policy import (
-    GENERAL_MODAL_MAX_COORDINATES,
-    PROBE_TIMES,
     Decision,
     SceneFacts,
     after_modal_probe,
@@ -75,7 +74,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         float64 modes (large numeric scenes): from the symmetric eigenproblem of size n for
         undamped and classically damped scenes (C M⁻¹K = K M⁻¹C, checked exactly) — or,
         for Rayleigh damping C = aK + bM with a diagonal M from
-        :data:`~laplace_springs.policy.CHEBYSHEV_MIN_COORDINATES` coordinates, a Chebyshev
+        :attr:`~laplace_springs.limits.Limits.chebyshev_min_coordinates` coordinates, a Chebyshev
         expansion in M⁻¹K (sparse products, no eigenvectors) — else the conditioned
         eigen-decomposition of the 2n x 2n first-order matrix. "certified":
         exact polynomials with certified roots, evaluated in ball arithmetic. "krylov":
@@ -130,14 +129,14 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         return ModalSolution(scene, chebyshev_motion(scene), reason=decision.reason, target=target)
     if facts.classical:
         classical = classical_motion(scene)  # decomposed on first use beyond the general route's size
-        if scene.n > GENERAL_MODAL_MAX_COORDINATES or not classical.has_zero_frequency:
+        if scene.n > limits().general_modal_max_coordinates or not classical.has_zero_frequency:
             return ModalSolution(scene, classical, reason=decision.reason, target=target)
         decision = Decision("modal", decision.reason.split(":")[0] + ": a zero frequency (rigid-"
                             "body motion): the general modal route splits it off exactly")
     try:
         motion = _modal_motion(scene)
     except SceneError:
-        if method != "auto" or scene.n > GENERAL_MODAL_MAX_COORDINATES:
+        if method != "auto" or scene.n > limits().general_modal_max_coordinates:
             raise  # a size refusal: the exact route would refuse too, for a worse reason
         fallback = Decision("certified" if facts.certified_ok else "exact",
                             "auto: the modal route cannot hold this scene in float64")
@@ -169,8 +168,8 @@ def _certified(scene: Scene, decision: Decision, target: float) -> CertifiedSolu
 
 
 def _probe(solution: ModalSolution) -> float:
-    """The modal route's largest bound relative to the contract's scale at PROBE_TIMES."""
-    times = as_times(np.array(PROBE_TIMES))
+    """The modal route's largest bound relative to the contract's scale at Limits.probe_times."""
+    times = as_times(np.array(limits().probe_times))
     values, bounds = solution._float(times, 0)
     scale = column_scales(values, solution._floor(0))
     with np.errstate(divide="ignore", invalid="ignore"):

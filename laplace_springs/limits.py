@@ -1,0 +1,233 @@
+"""Every size, tolerance, clustering gap and safety factor of the package, in one place.
+
+The modules read these values through :func:`limits` when they use them (never at import
+time), so a test or a user can run under other limits with :func:`using_limits`::
+
+    >>> from laplace_springs.limits import limits, using_limits
+    >>> limits().certified_auto_max_coordinates
+    4
+    >>> with using_limits(certified_auto_max_coordinates=2):
+    ...     limits().certified_auto_max_coordinates
+    2
+
+Each field says what it limits and the measurement behind its value (one core of the
+2-core development machine unless said). A value of the package's limits that a request
+exceeds is a :class:`~laplace_springs.model.errors.LimitError` naming the field.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import threading
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["Limits", "limits", "using_limits", "DEFAULT_LIMITS"]
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The package's limits and tolerances (see the module notes)."""
+
+    # -- the result contract ------------------------------------------------------------
+    #: Default accuracy of every evaluation, relative to max(‖x(t)‖∞, S₀).
+    target: float = 1e-13
+    #: A float64 bound never claims less than this relative to the value (14 significant
+    #: digits): a decimal reference printed to 15 digits differs from a correctly rounded
+    #: float64 value by up to 5e-15 of it, and no float64 value is better than its decimal.
+    min_relative_bound: float = 1e-14
+    #: Decimal digits of an escalated float64 evaluation on the exact route.
+    escalation_digits: int = 20
+    #: Largest number of decimal digits ``evaluate(..., dps=)`` accepts.
+    max_dps: int = 10_000
+    #: Largest number of values (times x coordinates) one evaluation returns at once; more
+    #: are refused with the way out (evaluate in chunks). 10⁸ float64 values are 800 MB,
+    #: and an engine holds a few arrays of that size while it works.
+    max_evaluation_values: int = 50_000_000
+    #: Largest number of times one evaluation takes (10⁷ times: 80 MB per coordinate).
+    max_times: int = 20_000_000
+    #: An evaluation the plan expects to take longer than this (seconds) shows progress.
+    progress_after_seconds: float = 2.0
+
+    # -- the planner: which engine serves a scene -----------------------------------------
+    #: "auto" certifies rational scenes up to this many coordinates. Measured with
+    #: benchmarks/bench_routes.py (damped chains, 1000 times): certified 2–10 ms for 1–4
+    #: masses where modal takes 3–21 ms and the exact route 20–160 ms; from 6 masses on the
+    #: two are close or modal is faster (8 masses: 18 ms against 35 ms).
+    certified_auto_max_coordinates: int = 4
+    #: "auto" solves exactly up to this many coordinates when the certified route cannot
+    #: take the scene (irrational entries): Δ of degree ≤ 4, radicals, milliseconds.
+    exact_auto_max_coordinates: int = 2
+    #: Largest scene the exact route serves as a fallback or escalation (symbolic work
+    #: grows fast with the degree of Δ's irreducible factors).
+    exact_fallback_max_coordinates: int = 8
+    #: Largest scene whose ``x`` is built as an exact closed form on other routes; beyond it
+    #: ``x`` is the modal form with Float coefficients.
+    exact_form_max_coordinates: int = 8
+    #: Largest scene whose ``x`` on a numeric route is a SymPy column (Float coefficients);
+    #: beyond it a ModalForm: 12 rows of 24 terms are still readable, 200 rows of 400 not.
+    closed_form_max_coordinates: int = 12
+    #: Largest first-order size (2n) the certified route takes: its roots cost about 1 s at
+    #: degree 100 and grow like the cube of the degree.
+    certified_max_order: int = 120
+    #: Largest scene (coordinates) the general (non-symmetric) modal route takes: it holds
+    #: M, C, K densely and decomposes the 2n x 2n first-order matrix four times (the motion
+    #: and three perturbed copies for its bound). Damped chains: 200 coordinates 1 s, 400
+    #: 6 s, 800 31 s; time grows like n³, memory like n².
+    general_modal_max_coordinates: int = 1_000
+    #: Largest undamped or classically damped scene the symmetric eigen route takes: the
+    #: n x n shapes (128 MB at 4,000). Also the largest scene whose shapes a Chebyshev
+    #: motion builds on request.
+    classical_max_coordinates: int = 4_000
+    #: Largest scene whose eigenvalues (``poles``) a Chebyshev motion computes densely when
+    #: K is not banded.
+    dense_eigenvalues_max_coordinates: int = 4_000
+    #: Rayleigh-damped scenes (C = aK + bM exactly, diagonal M) from this many coordinates
+    #: prefer the Chebyshev expansion in M⁻¹K to the eigen route, whose own bound misses
+    #: the target beyond ~20 coordinates (t·‖residual‖/ω_min): chains of 20–100 masses,
+    #: 1,000 times on [0, 50]: Chebyshev 13–15 ms with bounds 1.8e-14; eigen route 6–9 ms
+    #: with bounds 8.5e-14 (20) to 1.2e-9 (100).
+    chebyshev_min_coordinates: int = 16
+    #: Largest scene the Chebyshev route takes (the scene files' limit).
+    chebyshev_max_coordinates: int = 100_000
+    #: Largest number of floats of Chebyshev vectors held at once (1 GB): n·(N+1) per
+    #: initial vector, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen.
+    chebyshev_max_vector_floats: int = 125_000_000
+    #: Non-classical networks from this many coordinates prefer the krylov route to the
+    #: dense 2n x 2n eigenproblem: chains with one extra wall dashpot, 1,000 times on
+    #: [0, 50]: 200 masses 0.86 s against 1.8 s, 1,000 masses 2.7 s against 232 s.
+    krylov_auto_min_coordinates: int = 200
+    #: Largest number of Taylor steps one krylov evaluation takes (its cost grows linearly
+    #: with the last time: about 2·t·ν steps).
+    krylov_max_steps: int = 200_000
+    #: Largest H·ν of a krylov step: the float64 output sums lose about e^{Hν} units.
+    krylov_step_norm: float = 2.0
+    #: Largest scene (coordinates) the exact route takes. The fraction-free adjugate of
+    #: λ²M + λC + K costs about n⁴ (damped chains: 12 coordinates 0.7 s, 20 3 s, 30 14 s).
+    max_exact_coordinates: int = 40
+    #: Largest degree of an irreducible rational factor whose exact real terms are built:
+    #: cost grows like d⁴ (16: 0.4 s, 24: 1.2 s, 40: 10 s).
+    max_exact_factor_degree: int = 24
+    #: ``modes`` is exact up to this many coordinates for rational scenes.
+    modes_exact_max_coordinates: int = 40
+    #: Up to this many coordinates the text summary takes the exact modes.
+    exact_modes_max_coordinates: int = 8
+    #: Times at which "auto" checks the modal route's own bound before it keeps it.
+    probe_times: tuple[float, ...] = (0.0, 1.0)
+
+    # -- numerical tolerances of the engines ---------------------------------------------
+    #: Eigenvalue condition number above which a mode of the general modal route is
+    #: treated inside a block.
+    kappa_max: float = 1e3
+    #: Poles closer than this, relative to the largest |pole| (‖Z‖ for the modal route),
+    #: are one cluster on every engine: their individual eigenvectors (or residues) are
+    #: not determined in float64, their invariant subspace (divided differences) is.
+    close_poles: float = 1e-6
+    #: Largest number of eigenvalues grouped around one ill-conditioned eigenvalue.
+    max_group: int = 8
+    #: Factor applied to the modal route's first-order error bound (no sampling).
+    modal_safety: float = 8.0
+    #: Factor applied to the modal route's sampled sensitivity (max of the perturbed
+    #: decompositions).
+    sample_safety: float = 8.0
+    #: Perturbed decompositions the modal route measures per scene.
+    samples: int = 3
+    #: Largest first-order size for which an unseparable group falls back to one block.
+    whole_block_max: int = 64
+    #: Condition number of the mass block beyond which float64 cannot hold the scene.
+    max_mass_condition: float = 1e14
+    #: Condition number of the dashpot block of massless nodes beyond which float64 cannot
+    #: hold the reduction.
+    max_damping_condition: float = 1e12
+    #: Largest half-bandwidth of K (diagonal M) solved with scipy's banded eigensolver.
+    banded_max_bandwidth: int = 32
+    #: Largest scene with a non-diagonal M whose classical damping is checked exactly.
+    dense_check_max_coordinates: int = 64
+    #: Up to this many coordinates all the poles of a krylov scene are computed densely.
+    dense_poles_max_coordinates: int = 200
+    #: A pole-sum block is used while t·(its link heights) ≤ this.
+    block_theta: float = 1.0
+    #: Merge two pole groups when their separate forms exceed the joint form by this.
+    block_gain: float = 16.0
+    #: Largest pole group evaluated as one block (Newton data costs O(M²n)).
+    max_block: int = 24
+    #: Highest working precision (bits) of the certified route's ball evaluation.
+    max_bits: int = 1 << 15
+    #: Largest number of segments the sampled route's mpmath evaluation runs through.
+    mp_max_segments: int = 20_000
+    #: Largest number of distinct step lengths the sampled mpmath evaluation exponentiates.
+    mp_max_steps: int = 64
+    #: A sample grid is uniform when every step is within this fraction of 1/‖A‖ of its
+    #: nominal length (then the second-order remainder is < ε).
+    uniform_grid: float = 1e-8
+    #: Largest ratio between a common period and one input's period.
+    max_period_ratio: int = 256
+    #: Largest power of z = e^{-us} written for commensurate delays with common unit u.
+    max_delay_power: int = 512
+
+    # -- sweeps -------------------------------------------------------------------------
+    #: Largest scene the sweep compiles symbolically (the symbolic adjugate grows fast).
+    sweep_max_coordinates: int = 8
+    #: Roots closer than this · (largest |root|) are one cluster in the sweep kernels
+    #: (evaluated by divided differences).
+    cluster_gap: float = 5e-2
+    #: Memory a sweep chunk's largest array may take (bytes).
+    chunk_bytes: int = 32 * 2**20
+
+    # -- input ------------------------------------------------------------------------
+    #: Most coordinates (masses) a scene may have (a 100,000-mass chain loads in ~30 s).
+    max_coordinates: int = 100_000
+    #: Most components (springs and dashpots together) a scene may have.
+    max_components: int = 300_000
+    #: Largest n of an n x n matrix given entry by entry (three 500 x 500 arrays load in 9 s).
+    max_matrix_input_size: int = 500
+    #: Scenes with at most this many coordinates store M, C, K densely.
+    dense_storage_max_coordinates: int = 256
+    #: Longest text accepted by the parser, in characters.
+    max_expression_length: int = 10_000
+    #: Deepest nesting of parentheses, calls, signs and powers accepted.
+    max_nesting_depth: int = 100
+    #: Largest decimal exponent of a number literal.
+    max_literal_exponent: int = 4_000
+    #: Most significant digits of a number (literal, numerator or denominator).
+    max_digits: int = 1_000
+    #: Largest scene file, in bytes (about 4 times a 100,000-mass chain).
+    max_file_bytes: int = 16 * 2**20
+    #: Largest CSV file read (about 2 million rows of two numbers).
+    max_csv_bytes: int = 64 * 2**20
+
+
+#: The limits the package ships with.
+DEFAULT_LIMITS = Limits()
+
+_STATE = threading.local()
+
+
+def limits() -> Limits:
+    """The limits in force (the defaults unless :func:`using_limits` is active)."""
+    return getattr(_STATE, "current", DEFAULT_LIMITS)
+
+
+@contextlib.contextmanager
+def using_limits(**changes: Any) -> Iterator[Limits]:
+    """Run a block under other limits (this thread only).
+
+    Raises
+    ------
+    TypeError
+        For a name that is not a field of :class:`Limits`.
+
+    Examples
+    --------
+    >>> with using_limits(max_coordinates=10) as lim:
+    ...     lim.max_coordinates
+    10
+    """
+    previous = limits()
+    _STATE.current = dataclasses.replace(previous, **changes)
+    try:
+        yield _STATE.current
+    finally:
+        _STATE.current = previous
