@@ -76,7 +76,7 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "plot_pole_zero": ("output.plots", "plot_pole_zero"),
     # solving: the planner and the solutions
     "solve": ("solving", "solve"),
-    "plan": ("planning", "plan_for"),
+    "plan": ("solving", "plan_for"),
     "Plan": ("planning", "Plan"),
     "Solution": ("solution", "Solution"),
     "Verification": ("solution", "Verification"),
@@ -160,13 +160,13 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
     from .output.latex import resolvent_latex
     from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero
     from .planning import Plan
-    from .planning import plan_for as plan
     from .routes.certified import CertifiedSolution
     from .routes.exact import ExactSolution
     from .routes.krylov import KrylovSolution
     from .routes.modal import ModalSolution
     from .routes.sampled import SampledSolution
     from .solution import EvaluationReport, Solution, Verification
+    from .solving import plan_for as plan
     from .solving import solve
     from .sweeps.derived import (
         peak_amplitude,

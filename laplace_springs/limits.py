@@ -4,11 +4,11 @@ The modules read these values through :func:`limits` when they use them (never a
 time), so a test or a user can run under other limits with :func:`using_limits`::
 
     >>> from laplace_springs.limits import limits, using_limits
-    >>> limits().certified_auto_max_coordinates
-    4
-    >>> with using_limits(certified_auto_max_coordinates=2):
-    ...     limits().certified_auto_max_coordinates
-    2
+    >>> limits().certified_max_order
+    120
+    >>> with using_limits(certified_max_order=8):
+    ...     limits().certified_max_order
+    8
 
 Each field says what it limits and the measurement behind its value (one core of the
 2-core development machine unless said). A value of the package's limits that a request
@@ -48,18 +48,17 @@ class Limits:
     max_evaluation_values: int = 50_000_000
     #: Largest number of times one evaluation takes (10⁷ times: 80 MB per coordinate).
     max_times: int = 20_000_000
+    #: Largest number of values (times x coordinates) one engine call computes: longer
+    #: evaluations are done in chunks of times (memory bounded, progress shown, Ctrl-C
+    #: honoured between chunks). An engine holds a few arrays of this size (16 MB each).
+    evaluation_chunk_values: int = 2_000_000
     #: An evaluation the plan expects to take longer than this (seconds) shows progress.
     progress_after_seconds: float = 2.0
 
     # -- the planner: which engine serves a scene -----------------------------------------
-    #: "auto" certifies rational scenes up to this many coordinates. Measured with
-    #: benchmarks/bench_routes.py (damped chains, 1000 times): certified 2–10 ms for 1–4
-    #: masses where modal takes 3–21 ms and the exact route 20–160 ms; from 6 masses on the
-    #: two are close or modal is faster (8 masses: 18 ms against 35 ms).
-    certified_auto_max_coordinates: int = 4
-    #: "auto" solves exactly up to this many coordinates when the certified route cannot
-    #: take the scene (irrational entries): Δ of degree ≤ 4, radicals, milliseconds.
-    exact_auto_max_coordinates: int = 2
+    #: Largest scene the tiny engine (closed-form float64 poles with a residual bound)
+    #: takes: its 2n x 2n eigenproblem is cheaper than python-control's set-up up to here.
+    tiny_max_coordinates: int = 4
     #: Largest scene the exact route serves as a fallback or escalation (symbolic work
     #: grows fast with the degree of Δ's irreducible factors).
     exact_fallback_max_coordinates: int = 8
@@ -84,21 +83,11 @@ class Limits:
     #: Largest scene whose eigenvalues (``poles``) a Chebyshev motion computes densely when
     #: K is not banded.
     dense_eigenvalues_max_coordinates: int = 4_000
-    #: Rayleigh-damped scenes (C = aK + bM exactly, diagonal M) from this many coordinates
-    #: prefer the Chebyshev expansion in M⁻¹K to the eigen route, whose own bound misses
-    #: the target beyond ~20 coordinates (t·‖residual‖/ω_min): chains of 20–100 masses,
-    #: 1,000 times on [0, 50]: Chebyshev 13–15 ms with bounds 1.8e-14; eigen route 6–9 ms
-    #: with bounds 8.5e-14 (20) to 1.2e-9 (100).
-    chebyshev_min_coordinates: int = 16
     #: Largest scene the Chebyshev route takes (the scene files' limit).
     chebyshev_max_coordinates: int = 100_000
     #: Largest number of floats of Chebyshev vectors held at once (1 GB): n·(N+1) per
     #: initial vector, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen.
     chebyshev_max_vector_floats: int = 125_000_000
-    #: Non-classical networks from this many coordinates prefer the krylov route to the
-    #: dense 2n x 2n eigenproblem: chains with one extra wall dashpot, 1,000 times on
-    #: [0, 50]: 200 masses 0.86 s against 1.8 s, 1,000 masses 2.7 s against 232 s.
-    krylov_auto_min_coordinates: int = 200
     #: Largest number of Taylor steps one krylov evaluation takes (its cost grows linearly
     #: with the last time: about 2·t·ν steps).
     krylov_max_steps: int = 200_000
@@ -116,6 +105,11 @@ class Limits:
     exact_modes_max_coordinates: int = 8
     #: Times at which "auto" checks the modal route's own bound before it keeps it.
     probe_times: tuple[float, ...] = (0.0, 1.0)
+    #: A value whose error bound, after every engine of the plan has tried, still exceeds
+    #: max(target, this) times the contract's scale is refused (a LimitError naming the
+    #: way out), with or without ``return_error``: no value off by more than 1e-10 of the
+    #: scale leaves the package, whatever the call.
+    refusal_bound: float = 1e-10
 
     # -- numerical tolerances of the engines ---------------------------------------------
     #: Eigenvalue condition number above which a mode of the general modal route is

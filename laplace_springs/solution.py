@@ -34,7 +34,7 @@ from .exact.jumps import InitialJump
 from .exact.real_terms import Term
 from .exact.resolvent import Resolvent
 from .limits import limits
-from .model.errors import SceneError
+from .model.errors import LimitError, SceneError
 from .model.scene import Scene
 from .model.symbols import TIME
 from .numeric.first_order import massless_nodes, scene_entries
@@ -42,11 +42,13 @@ from .numeric.times import Times, as_times, check_dps
 from .output.latex import matrix_latex
 from .output.plots import plot_energy, plot_motion, plot_phase
 from .output.text import formula_lines, summary_lines
-from .policy import (
-    check_target,
-    escalate_columns,
-    reference_scale,
-)
+from .planning.engines import Cost, Refusal
+from .planning.execute import BUILDERS, DIGIT_HOSTS, EvaluationReport, Evaluator, execute
+from .planning.facts import scene_facts
+from .planning.plan import Plan
+from .planning.plan import plan as plan_request
+from .planning.request import DEFAULT_REQUEST, Request, request_for
+from .policy import check_target, reference_scale
 
 __all__ = ["Solution", "Verification", "DEFAULT_SAMPLES", "t"]
 
@@ -163,9 +165,11 @@ class Solution(ABC):
         """x(t) as a SymPy column matrix in :data:`laplace_springs.t`."""
 
     @property
-    @abstractmethod
     def escalation(self) -> str | None:
-        """Where times whose float64 bound misses the target go: "mp", "certified" or None."""
+        """The first engine of the default plan that recomputes a time whose float64 bound
+        misses the target ("refined", "ball", "mp", or a tighter float64 engine), or None."""
+        chain = self.plan().chain
+        return chain[1] if len(chain) > 1 else None
 
     @property
     @abstractmethod
@@ -173,7 +177,8 @@ class Solution(ABC):
         """The poles λ of the motion (roots of Δ that occur), complex float64."""
 
     def evaluate(self, times: Any, *, dps: int | None = None, return_error: bool = False,
-                 target: float | None = None, derivative: int = 0) -> Any:
+                 target: float | None = None, derivative: int = 0,
+                 return_report: bool = False) -> Any:
         """x(t) (or a derivative) at the given times.
 
         Parameters
@@ -194,17 +199,24 @@ class Solution(ABC):
             recomputed by the escalation route.
         derivative : {0, 1, 2}
             Evaluate x, x' or x''.
+        return_report : bool
+            Also return an :class:`~laplace_springs.planning.execute.EvaluationReport`: the
+            plan, and which engine produced each time.
 
         Returns
         -------
-        numpy.ndarray, or (numpy.ndarray, numpy.ndarray)
-            Shape (n, len(times)).
+        numpy.ndarray, or a tuple (values, bounds, report) of what was asked
+            Values and bounds have shape (n, len(times)).
 
         Raises
         ------
         ValueError
             For NaN, infinite or negative times, a bad ``dps``, ``target`` or
             ``derivative``.
+        LimitError
+            When no engine of the package can bound a value within
+            max(target, Limits.refusal_bound) of the scale, or the request is larger than
+            ``Limits.max_evaluation_values`` (the message names the time and the way out).
         SceneError
             When the scene has symbols (give them values first).
         OverflowError
@@ -214,28 +226,92 @@ class Solution(ABC):
         -----
         Every value satisfies the contract of :mod:`laplace_springs.policy`: its error is
         within ``target``·max(‖x(t)‖∞, S₀), or the returned bound says how large it may be.
-        The decision to escalate a time looks at that time alone, so a value does not
-        depend on the other times in the call.
+        The planner (:mod:`laplace_springs.planning`) chooses the engines for this request;
+        a time whose bound misses the target is recomputed by the next engine of the plan,
+        a decision that looks at that time alone, so a value does not depend on the other
+        times in the call (see :meth:`plan`).
         """
         self._require_numbers()
         T = as_times(times)
         order = _check_order(derivative)
-        if dps is not None:
-            values, bounds = self._digits(T, order, check_dps(dps))
-            return (values, bounds) if return_error else values
+        _check_size(len(T), self.scene.n)
         goal = check_target(self.target if target is None else target)
-        values, bounds = self._float(T, order)
-        mask = escalate_columns(values, bounds, self._floor(order), goal)
-        if mask.any() and self.escalation is not None:
-            columns = np.flatnonzero(mask)
-            other, other_bounds = self._escalate(T.subset(columns), order, goal)
-            with np.errstate(invalid="ignore"):  # keep, per time, whichever bound is smaller
-                take = ~(np.max(other_bounds, axis=0) > np.max(bounds[:, columns], axis=0))
-            values[:, columns[take]] = other[:, take]
-            bounds[:, columns[take]] = other_bounds[:, take]
-        _check_float_result(values, bounds, T)
-        bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
-        return (values, bounds) if return_error else values
+        request = request_for(T, target=goal, dps=None if dps is None else check_dps(dps),
+                              order=order)
+        plan = self._plan(request)
+        if dps is not None:
+            values, bounds = self._digits_by(plan, T, order, request.dps or 0)
+            report = EvaluationReport(plan, (plan.primary or "",) * len(T), np.zeros(len(T)))
+        else:
+            values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order, goal,
+                                             self._floor(order))
+            _check_float_result(values, bounds, T, report, goal)
+            bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
+        out = (values, bounds) if return_error else (values,)
+        out = (*out, report) if return_report else out
+        return out if len(out) > 1 else out[0]
+
+    def plan(self, times: Any = None, *, target: float | None = None, dps: int | None = None,
+             derivative: int = 0) -> Plan:
+        """The plan :meth:`evaluate` would execute for these arguments (nothing is evaluated).
+
+        Examples
+        --------
+        >>> import laplace_springs as ls
+        >>> sol = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[[2]], K=[[1]], x0=[1], v0=[0]))
+        >>> sol.plan([0.5, 2]).chain[0] == sol.method
+        True
+        """
+        T = as_times([] if times is None else times)
+        request = request_for(T, target=check_target(self.target if target is None else target),
+                              dps=None if dps is None else check_dps(dps),
+                              order=_check_order(derivative))
+        return self._plan(request if times is not None else DEFAULT_REQUEST)
+
+    # -- planning and execution (the engines a solution can call) -------------------------
+    #: "auto", an engine or a family: what ``solve`` was asked (kept for every request).
+    requested: str = "auto"
+
+    #: The arbitrary-precision engine this class evaluates with its own data ("mp" for
+    #: exact terms, "ball" for certified poles), if any.
+    _escalation_engine: ClassVar[str | None] = None
+    #: False for solutions that are not planned (their own float64 pass and escalation).
+    _planned: ClassVar[bool] = True
+
+    def _own_engines(self) -> dict[str, Evaluator]:
+        """Engines this solution evaluates with its own data: {name: evaluator}."""
+        own: dict[str, Evaluator] = {self.method: lambda times, order, target: self._float(times, order)}
+        if self._escalation_engine is not None:
+            own[self._escalation_engine] = self._escalate
+        return own
+
+    def _plan(self, request: Request) -> Plan:
+        own = self._own_engines()
+        if not self._planned:
+            return Plan(request, self.method, tuple(own), costs={name: Cost(0.0, 0.0) for name in own},
+                        reason=self.reason)
+        return plan_request(scene_facts(self.scene), request, method=self.requested,
+                            built=own, available=set(own) | set(BUILDERS))
+
+    def _evaluator(self, name: str) -> Evaluator | Refusal:
+        """The evaluator of engine ``name`` for this scene, built once per solution."""
+        cache = self.__dict__.setdefault("_evaluators", {})
+        if name not in cache:
+            own = self._own_engines()
+            cache[name] = own[name] if name in own else BUILDERS[name](self)
+        found: Evaluator | Refusal = cache[name]
+        return found
+
+    def _digits_by(self, plan: Plan, times: Times, order: int,
+                   dps: int) -> tuple[np.ndarray, np.ndarray]:
+        """``dps`` digits from the plan's arbitrary-precision engine."""
+        for name in plan.chain:
+            host = self if name == self._escalation_engine or not self._planned \
+                else DIGIT_HOSTS[name](self)
+            if not isinstance(host, Refusal):
+                digits: tuple[np.ndarray, np.ndarray] = host._digits(times, order, dps)
+                return digits
+        raise LimitError(f"evaluate(..., dps={dps}): {plan.reason}")
 
     def verify(self, *, samples: Sequence[Any] = DEFAULT_SAMPLES,
                tolerance: float | None = None) -> Verification:
@@ -452,15 +528,36 @@ class Solution(ABC):
                              "build the scene with values for them")
 
 
-def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times) -> None:
-    """Raise rather than return a value that is not finite or a bound that is not."""
+def _check_size(count: int, n: int) -> None:
+    """Refuse an evaluation larger than Limits.max_evaluation_values before any work."""
+    most = limits().max_evaluation_values
+    if count * max(n, 1) > most:
+        raise LimitError(
+            f"evaluate: {count:,} times x {n:,} coordinates = {count * n:,} values, more than "
+            f"Limits.max_evaluation_values = {most:,}; evaluate the times in chunks of at most "
+            f"{max(most // max(n, 1), 1):,}")
+
+
+def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times,
+                        report: EvaluationReport, target: float) -> None:
+    """Raise rather than return a value beyond float64, or one no engine could bound within
+    max(target, Limits.refusal_bound) of the scale."""
     with np.errstate(invalid="ignore"):
-        huge = ~np.isfinite(values) | (np.abs(values) > np.finfo(float).max / 4)
+        huge = np.isfinite(values) & (np.abs(values) > np.finfo(float).max / 4)
     if huge.any():
         column = int(np.flatnonzero(huge.any(axis=0))[0])
-        raise OverflowError(f"x(t) at t = {times.hi[column]!r} is beyond the float64 range "
-                            "(or not finite); evaluate(..., dps=30) gives it")
-    if not np.all(np.isfinite(bounds)):
-        column = int(np.flatnonzero(~np.all(np.isfinite(bounds), axis=0))[0])
-        raise ArithmeticError(f"no route could bound the error of x(t) at t = {times.hi[column]!r}; "
-                              "evaluate(..., dps=30) computes it to 30 digits")
+        raise OverflowError(f"x(t) at t = {times.hi[column]!r} is beyond the float64 range; "
+                            "evaluate(..., dps=30) gives it")
+    worst = report.relative_bounds
+    missed = np.flatnonzero(~(worst <= max(target, limits().refusal_bound)))
+    if missed.size:
+        column = int(missed[0])
+        tried = ", ".join(report.plan.chain) or "none"
+        bound = "no bound" if not np.isfinite(worst[column]) else f"a bound of {worst[column]:.1e}"
+        raise LimitError(
+            f"x(t) at t = {times.hi[column]!r}: the engines of the plan ({tried}) give "
+            f"{bound} of the solution's scale, above max(target, Limits.refusal_bound) = "
+            f"{max(target, limits().refusal_bound):g}"
+            + (f" ({missed.size} times in all)" if missed.size > 1 else "")
+            + f". {report.plan.reason}. Ways out: a coarser target (evaluate(..., target=)), "
+            "dps= where the plan has an arbitrary-precision engine, or a smaller scene")

@@ -18,6 +18,7 @@ import pytest
 import laplace_springs as ls
 from laplace_springs.bench.reference import reference_motion_arb
 from laplace_springs.limits import limits
+from laplace_springs.planning import ENGINE_NAMES, FAMILIES
 
 ROUTES = ("exact", "modal", "certified")
 
@@ -144,11 +145,11 @@ def test_modal_route_scales_stiffnesses_beyond_float64(exponent):
     assert values[0, 0] == 1.0 and abs(values[0, 1] - exact) <= max(bounds[0, 1], 1e-13)
 
 
-def test_auto_keeps_the_modal_route_for_an_eight_mass_damped_chain():
-    # the exact route took 2.75 s where the modal route meets the contract in milliseconds
+def test_auto_keeps_a_float64_engine_for_an_eight_mass_damped_chain():
+    # the exact route took 2.75 s where the float64 engines meet the contract in milliseconds
     scene = chain(8, springs=("1",), dashpots=("1/20",))
     sol = ls.solve(scene)
-    assert sol.method == "modal"
+    assert sol.method in ("classical", "chebyshev", "modal", "certified")
     check_contract(sol, scene, np.linspace(0, 20, 9), tolerance=limits().target)
 
 
@@ -168,10 +169,10 @@ SCENES = {
 def test_every_route_honours_the_contract(name, method):
     scene = SCENES[name]()
     sol = ls.solve(scene, method=method)
-    assert sol.method == method and isinstance(sol, ls.Solution)
+    assert sol.method in FAMILIES.get(method, (method,)) and isinstance(sol, ls.Solution)
     times = np.array([0.0, 0.37, 2.0, 15.0, 300.0])
     values, _, relative = check_contract(sol, scene, times)
-    assert relative.max() <= limits().target or sol.method == "modal"
+    assert relative.max() <= limits().target
     for k, tv in enumerate(times):  # one time at a time: the same values, up to the rounding
         alone = sol.evaluate([tv])[:, 0]  # of vectorised exp/cos and BLAS kernels of other shapes
         assert np.max(np.abs(alone - values[:, k])) <= 1e-14 * np.max(np.abs(values[:, k]))
@@ -254,7 +255,7 @@ def test_verify_has_one_signature():
 
 def test_auto_picks_the_fastest_route_and_keeps_the_exact_form_at_hand():
     small = ls.solve(ls.load_scene("three-dashpots"))  # rational, 2 coordinates
-    assert small.method == "certified" and "Limits.certified_auto_max_coordinates" in small.reason
+    assert small.method in ENGINE_NAMES and "cheapest engine" in small.reason
     exact = ls.solve(ls.load_scene("three-dashpots"), method="exact")
     assert small.x == exact.x and small.g_basis == exact.g_basis  # built when asked
     forced = ls.solve(ls.load_scene("vertical-pair").with_forcing(["cos(t)", 0]))

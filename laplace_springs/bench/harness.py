@@ -46,13 +46,14 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType
-from typing import Any, TextIO
+from typing import Any
 
 import mpmath
 import numpy as np
 from sympy.core.cache import clear_cache
 
 from ..model.scene import Scene
+from ..planning.progress import Progress
 from . import report as bench_report
 from .battery import battery_cases
 from .methods import (
@@ -251,49 +252,6 @@ def measure(method: Method, case: BenchCase, problem: Problem, reference: Refere
     note = outcome.note if status == "ok" else f"non-finite values. {outcome.note}"
     return Record(case.name, case.kind, method.name, method.label, method.ours, status,
                   error, seconds, len(runs), dict(outcome.phases), note.strip())
-
-
-# ----------------------------------------------------------------------------- progress
-
-
-class Progress:
-    """A one-line progress bar on a stream (a line per update when it is not a terminal)."""
-
-    WIDTH = 28
-
-    def __init__(self, total: int, stream: TextIO | None = None, enabled: bool = True) -> None:
-        self.total, self.done, self.enabled = max(total, 1), 0, enabled
-        self.stream = stream if stream is not None else sys.stderr
-        self.start = time.perf_counter()
-        self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
-        self._last_case: str | None = None
-
-    def update(self, case: str, method: str) -> None:
-        if not self.enabled:
-            return
-        if not self.terminal:
-            if case != self._last_case:
-                self._last_case = case
-                self._write(f"[{self.done}/{self.total}] {case}\n")
-            return
-        filled = self.WIDTH * self.done // self.total
-        bar = "#" * filled + "-" * (self.WIDTH - filled)
-        elapsed = time.perf_counter() - self.start
-        self._write(f"\r[{bar}] {self.done}/{self.total} {elapsed:5.0f}s "
-                    f"{case[:24]}: {method[:18]}".ljust(100))
-
-    def advance(self) -> None:
-        self.done += 1
-
-    def close(self) -> None:
-        if self.enabled:
-            elapsed = time.perf_counter() - self.start
-            self._write(("\r" if self.terminal else "")
-                        + f"done: {self.done} runs in {elapsed:.0f} s".ljust(100) + "\n")
-
-    def _write(self, text: str) -> None:
-        self.stream.write(text)
-        self.stream.flush()
 
 
 # ----------------------------------------------------------------------------- driver

@@ -43,7 +43,7 @@ from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
 
-__all__ = ["screen_scene"]
+__all__ = ["screen_scene", "exact_refusal"]
 
 
 _Pencil = tuple[flint.fmpq_mat, flint.fmpq_mat, flint.fmpq_mat]
@@ -186,11 +186,8 @@ def _transform(pencil: _Pencil, vectors: list[_Vector]
 
 
 def screen_scene(scene: Scene) -> None:
-    """Raise InversionError at once when the exact route cannot finish for ``scene``.
-
-    See the module notes: every refusal here is one the partial-fraction engine would
-    make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate that
-    would not finish); this one takes milliseconds.
+    """Raise InversionError at once when the exact route cannot finish for ``scene``
+    (the reason :func:`exact_refusal` gives).
 
     Examples
     --------
@@ -210,35 +207,47 @@ def screen_scene(scene: Scene) -> None:
     ...
     laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 26 > Limits.max_exact_factor_degree = 24: ...
     """
+    why = exact_refusal(scene)
+    if why is not None:
+        raise InversionError(why)
+
+
+def exact_refusal(scene: Scene) -> str | None:
+    """Why the exact route cannot finish for ``scene``, or None (milliseconds).
+
+    See the module notes: every refusal here is one the partial-fraction engine would
+    make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate that
+    would not finish).
+    """
     n = scene.n
     if n > limits().max_exact_coordinates:
-        raise InversionError(
+        return (
             f"the exact route takes at most Limits.max_exact_coordinates = {limits().max_exact_coordinates} "
             f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
             f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
             "larger free numeric scenes, within their own limits")
     if 2 * n <= limits().max_exact_factor_degree:
-        return  # no factor of Δ can be too large
+        return None  # no factor of Δ can be too large
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
     everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
     entries = [e for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m]
     if everything and not all(e.is_rational_function(*everything) for e in entries):
-        return
+        return None
     point = generic_values(everything) if everything else {}
     pencil = _pencil(scene, point)
     vectors = _right_hand_sides(scene, pencil, point) if pencil is not None else None
     found = _transform(pencil, vectors) if pencil is not None and vectors is not None else None
     if found is None:
-        return
+        return None
     delta, pieces = found
     _, factors = delta.factor()
     stays = [f.degree() for f, _ in factors if f.degree() > limits().max_exact_factor_degree
              and any(N % f != 0 for numerators in pieces for N in numerators)]
     if not stays:
-        return
+        return None
     if not symbols:
         unforced = " (for the free motion: they take no forcing)" if scene.is_forced else ""
-        raise InversionError(
+        return (
             f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {max(stays)} > "
             f"Limits.max_exact_factor_degree = {limits().max_exact_factor_degree}: exact terms cost about the "
             "fourth power of the degree (degree 24: 1.2 s per coordinate, 40: 10 s); the "
@@ -247,7 +256,7 @@ def screen_scene(scene: Scene) -> None:
     names = ", ".join(sorted(symbol.name for symbol in symbols))
     largest = max(stays)
     shown = f"{largest}" if largest == 2 * n else f"at least {largest}"
-    raise InversionError(
+    return (
         f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {shown} "
         f"> Limits.max_exact_factor_degree = {limits().max_exact_factor_degree} (seen at "
         f"generic values of {names}): too large for exact terms whether its coefficients "

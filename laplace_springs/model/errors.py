@@ -6,13 +6,15 @@
   memory or time budget; see :mod:`laplace_springs.limits`). The message names the limit
   and the way out. Both are ``ValueError`` subclasses, so ``except ValueError`` code
   keeps working.
+* :class:`FloatRangeError` (a :class:`LimitError`): one engine cannot hold the scene in
+  float64; the planner takes another.
 * :class:`InternalError`: the package failed where it should not have; a bug to report.
 * :class:`InversionError`: a transform cannot be inverted in the requested form.
 """
 
 from __future__ import annotations
 
-__all__ = ["SceneError", "LimitError", "InternalError", "InversionError"]
+__all__ = ["SceneError", "LimitError", "FloatRangeError", "InternalError", "InversionError"]
 
 
 class SceneError(ValueError):
@@ -29,6 +31,12 @@ class LimitError(ValueError):
     The message names the limit (a field of :class:`laplace_springs.limits.Limits`) and
     the way out, for example evaluating in chunks or solving a coarser model.
     """
+
+
+class FloatRangeError(LimitError):
+    """An engine cannot hold this scene in float64: a scale beyond its range, or a matrix
+    singular to working precision. The planner reads it as that engine's refusal and takes
+    another engine; it reaches the caller only when the caller named the engine."""
 
 
 class InternalError(RuntimeError):

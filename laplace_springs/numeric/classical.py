@@ -44,7 +44,7 @@ import sympy as sp
 from flint import fmpq, fmpq_mat
 
 from ..limits import limits
-from ..model.errors import SceneError
+from ..model.errors import FloatRangeError, SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .first_order import rational_entries, scene_arrays, scene_entries
@@ -172,7 +172,7 @@ def _csr(n: int, entries: dict[tuple[int, int], Any], name: str) -> Any:
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         i, j = (int(v) for v in keys[bad[0]])
-        raise SceneError(f"{name}[{i},{j}] = {entries[i, j]} is beyond the float64 range")
+        raise FloatRangeError(f"{name}[{i},{j}] = {entries[i, j]} is beyond the float64 range")
     return scipy.sparse.csr_matrix((values, (keys[:, 0], keys[:, 1])), shape=(n, n))
 
 
@@ -204,14 +204,14 @@ def symmetric_scene(scene: Scene, damping: Any = None) -> SymmetricScene:
         for (i, j), entry in Md.items():
             mass[i, j] = _float(entry)
     if not np.all(np.isfinite(mass)):
-        raise SceneError("M has an entry beyond the float64 range")
+        raise FloatRangeError("M has an entry beyond the float64 range")
     bandwidth = max((abs(i - j) for i, j in Kd), default=0)
     x0, v0 = np.zeros(n), np.zeros(n)
     for vector, name in ((x0, "x0"), (v0, "v0")):
         for (i, _), entry in _entries(scene, name).items():
             vector[i] = _float(entry)
         if not np.all(np.isfinite(vector)):
-            raise SceneError(f"{name} has an entry beyond the float64 range")
+            raise FloatRangeError(f"{name} has an entry beyond the float64 range")
     K = _csr(n, Kd, "K")
     if damping is None:
         C = _csr(n, Cd, "C")

@@ -44,7 +44,7 @@ import numpy as np
 from flint import fmpq
 
 from ..limits import limits
-from ..model.errors import SceneError
+from ..model.errors import FloatRangeError, SceneError
 from ..model.scene import Scene
 from .first_order import rational_entries
 
@@ -246,7 +246,7 @@ def krylov_data(scene: Scene) -> KrylovData:
     hi = np.array([p[0] for p in parts])
     lo = np.array([p[1] for p in parts])
     if not (np.all(np.isfinite(hi)) and np.all(np.isfinite(lo))) or np.max(np.abs(hi), initial=0) > 1e150:
-        raise SceneError("M⁻¹K or M⁻¹C has an entry beyond what the Taylor route holds in float64")
+        raise FloatRangeError("M⁻¹K or M⁻¹C has an entry beyond what the Taylor route holds in float64")
     groups = _groups(n, r_idx, c_idx, hi, lo)
     margin = 1 + 1e-10
     m = np.array([float(v) for v in mass])
@@ -281,7 +281,7 @@ def krylov_data(scene: Scene) -> KrylovData:
         for i, value in vector.items():
             zh[offset + i], zl[offset + i] = _dd(value)
     if not math.isfinite(energy) or not np.all(np.isfinite(zh)):
-        raise SceneError("the initial data are beyond the float64 range")
+        raise FloatRangeError("the initial data are beyond the float64 range")
     matrix = sps.csr_matrix((hi, (r_idx, c_idx)), shape=(n, 2 * n))
     width = max((len(r) for r in rows), default=1)
     return KrylovData(n, groups, max(width, 1), max(nu, 1e-300), norm_K, abs_B, row_K, row_C,

@@ -50,7 +50,7 @@ import numpy as np
 import sympy as sp
 
 from ..limits import limits
-from ..model.errors import SceneError
+from ..model.errors import FloatRangeError
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .classical import ModalForm
@@ -93,7 +93,7 @@ def _reduce(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray, v0: np.
     scale = float(np.max(np.abs(M)))
     Ms = M / scale  # masses of 1e-300 or 1e300: factor their size out first
     if np.linalg.cond(Ms) > limits().max_mass_condition:
-        raise SceneError(f"the modal route needs an invertible mass matrix, but M is singular "
+        raise FloatRangeError(f"the modal route needs an invertible mass matrix, but M is singular "
                          f"to working precision (condition number {np.linalg.cond(Ms):.3g})")
     Cs, Ks = C / scale, K / scale
     if np.array_equal(M, M.T):
@@ -123,10 +123,10 @@ def _massless_system(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray
     m = [i for i in range(n) if i not in z]
     Czz, Mmm = C[np.ix_(z, z)], M[np.ix_(m, m)]
     if np.linalg.cond(Czz) > limits().max_damping_condition:
-        raise SceneError(f"the modal route handles massless nodes held by dashpots (invertible C "
+        raise FloatRangeError(f"the modal route handles massless nodes held by dashpots (invertible C "
                          f"block on them); nodes {z} are not")
     if m and np.linalg.cond(Mmm) > limits().max_mass_condition:
-        raise SceneError("the modal route needs an invertible mass matrix on the massive nodes")
+        raise FloatRangeError("the modal route needs an invertible mass matrix on the massive nodes")
     P = -np.linalg.solve(Czz, K[z, :])
     Q = -np.linalg.solve(Czz, C[np.ix_(z, m)])
     Cmz = C[np.ix_(m, z)]
@@ -616,7 +616,7 @@ def _decompose_arrays(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarra
         back, newton = reduced.back, True
     norm = float(np.linalg.norm(y0))
     if not np.isfinite(norm) or not np.isfinite(Z).all():
-        raise SceneError("the modal route cannot scale this scene into float64 "
+        raise FloatRangeError("the modal route cannot scale this scene into float64 "
                          f"(‖y0‖ = {norm:.3g}); use the certified or exact route")
     if norm == 0 or size == 0:
         norm = 1.0
@@ -692,7 +692,7 @@ def _sampled(modes: Modes, scale: float, arrays: tuple[np.ndarray, ...],
         try:
             M, C, K, x0, v0 = _perturbed(arrays, rounding, rng)
             other, other_scale = _decompose_arrays(M, C, K, x0, v0, noise=rng)
-        except (SceneError, np.linalg.LinAlgError):
+        except (FloatRangeError, np.linalg.LinAlgError):
             return modes
         samples.append((other, other_scale / scale))
     return dataclasses.replace(modes, samples=tuple(samples))
@@ -817,7 +817,7 @@ def decompose_modal(scene: Scene) -> ModalMotion:
 
     Raises
     ------
-    SceneError
+    FloatRangeError
         For symbolic entries (named), a singular mass matrix, or massless nodes not held
         by dashpots.
 

@@ -30,15 +30,12 @@ class CertifiedSolution(Solution):
     """
 
     method = "certified"
+    _escalation_engine = "ball"
 
     def __init__(self, scene: Scene, poles: CertifiedPoles, *, reason: str,
                  target: float | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.certified = poles
-
-    @property
-    def escalation(self) -> str:
-        return "certified"
 
     @cached_property
     def poles(self) -> np.ndarray:

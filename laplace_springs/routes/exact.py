@@ -53,14 +53,11 @@ class ExactSolution(Solution):
     """
 
     method = "exact"
+    _escalation_engine = "mp"
 
     def __init__(self, motion: ExactMotion, *, reason: str, target: float | None = None) -> None:
         super().__init__(motion.scene, reason=reason, target=target)
         self.motion = motion
-
-    @property
-    def escalation(self) -> str:
-        return "mp"
 
     # -- exact data -------------------------------------------------------------------
     @property

@@ -86,10 +86,6 @@ class KrylovSolution(Solution):
         self.x  # noqa: B018 - raises when there is no closed form
         return super().latex(**kw)
 
-    @property
-    def escalation(self) -> str | None:
-        return "mp" if self.scene.n <= limits().exact_fallback_max_coordinates else None
-
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         values, bounds = self.motion.evaluate(times.hi, order)
         if times.lo.any():  # a decimal time: evaluated at hi, off by lo·x^(order+1)

@@ -16,9 +16,7 @@ from ..numeric.chebyshev import ChebyshevMotion
 from ..numeric.classical import ClassicalMotion
 from ..numeric.modal import ModalMotion
 from ..numeric.times import Times
-from ..policy import (
-    reference_scale,
-)
+from ..policy import reference_scale
 from ..solution import Solution
 from .exact import ExactSolution, exact_solution_of
 
@@ -41,13 +39,21 @@ class ModalSolution(Solution):
     :attr:`~laplace_springs.limits.Limits.exact_fallback_max_coordinates` coordinates).
     """
 
-    method = "modal"
-
     def __init__(self, scene: Scene, motion: ModalMotion | ClassicalMotion | ChebyshevMotion, *, reason: str,
                  target: float | None = None, certified: CertifiedPoles | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.motion = motion
         self._given_certified = certified
+
+    @property
+    def method(self) -> str:  # type: ignore[override]
+        """The engine: "classical" (symmetric eigenproblem), "chebyshev" (expansion in
+        M⁻¹K), "modal" (the general 2n x 2n eigenproblem), or the motion's own ``engine``."""
+        if isinstance(self.motion, ChebyshevMotion):
+            return "chebyshev"
+        if isinstance(self.motion, ClassicalMotion):
+            return "classical"
+        return str(getattr(self.motion, "engine", "modal"))
 
     def _require_numbers(self) -> None:
         """Nothing to check: :func:`~laplace_springs.solve` never gives this route symbols
@@ -118,13 +124,10 @@ class ModalSolution(Solution):
             return None
         return self._exact_form
 
-    @property
-    def escalation(self) -> str | None:
-        if self._certified is not None:
-            return "certified"
-        return "mp" if self.scene.n <= limits().exact_fallback_max_coordinates else None
-
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        if hasattr(self.motion, "evaluate"):  # an engine of the planner's interface
+            result: tuple[np.ndarray, np.ndarray] = self.motion.evaluate(times, order)
+            return result
         values = self.motion.values(times.hi, order)
         bounds = self.motion.bound(times.hi, order)
         if times.lo.any():  # a decimal time: the float evaluated at hi, off by lo·x'

@@ -43,6 +43,8 @@ class SampledSolution(Solution):
     (:attr:`~laplace_springs.limits.Limits.mp_max_segments` segments).
     """
 
+    _planned = False  # its own float64 pass (base + sampled responses) and mp escalation
+
     def __init__(self, scene: Scene, base: Solution, *, reason: str,
                  target: float | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
@@ -85,6 +87,10 @@ class SampledSolution(Solution):
     @property
     def escalation(self) -> str | None:
         return "mp" if self._mp_ok else None
+
+    @property
+    def _escalation_engine(self) -> str | None:  # type: ignore[override]
+        return self.escalation
 
     def _sampled_float(self, hi: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
         values = np.zeros((self.scene.n, hi.size))

@@ -22,6 +22,7 @@ from laplace_springs.bench.reference import reference_motion
 from laplace_springs.numeric import chebyshev
 from laplace_springs.numeric.chebyshev import ChebyshevMotion, chebyshev_motion, rayleigh_coefficients
 from laplace_springs.numeric.classical import ModalForm, classical_damping
+from laplace_springs.planning import Request, SceneFacts, plan
 
 from .test_classical import analytic_chain, chain
 
@@ -142,18 +143,16 @@ def test_shapes_beyond_their_size_are_refused_with_the_reason(set_limits):
         sol.x
 
 
-def test_policy_routes_rayleigh_and_refuses_other_large_classical_scenes():
-    big = policy.SceneFacts(n=50_000, symbolic=False, forced=False, rational=True,
-                            first_order=True, classical=True, rayleigh=True)
-    assert big.modal_kind == "chebyshev" and policy.route_for("auto", big).route == "modal"
-    other = policy.SceneFacts(n=5_000, symbolic=False, forced=False, rational=True,
-                              first_order=True, classical=True, rayleigh=False)
-    with pytest.raises(SceneError, match="Limits.classical_max_coordinates = 4,000"):
-        policy.route_for("modal", other)
-    small = policy.SceneFacts(n=policy.limits().chebyshev_min_coordinates - 1, symbolic=False,
-                              forced=False, rational=True, first_order=True, classical=True,
-                              rayleigh=True)
-    assert small.modal_kind == "classical"
+def test_planner_routes_rayleigh_and_refuses_other_large_classical_scenes():
+    facts = {"symbolic": False, "forced": False, "rational": True, "first_order": True,
+             "classical": True, "diagonal_mass": True, "stiffness_bound": 4.0, "pole_bound": 2.1}
+    big = SceneFacts(n=50_000, rayleigh=True, nnz=150_000, **facts)
+    assert plan(big, Request()).primary == "chebyshev"
+    other = SceneFacts(n=5_000, rayleigh=False, nnz=15_000, **facts)
+    refusals = {r.engine: r for r in plan(other, Request(), method="classical").refusals}
+    assert "Limits.classical_max_coordinates = 4,000" in refusals["classical"].reason
+    assert refusals["classical"].limit == "classical_max_coordinates"
+    assert plan(other, Request(), method="classical").chain == ()
 
 
 def test_ten_thousand_masses():

@@ -61,22 +61,20 @@ TIMES = np.array([0.0, 0.5, 3.0, 17.0, 60.0])
 FLOAT_REFERENCE = 1e-14
 
 
-def test_rayleigh_chain_matches_its_analytic_modes_and_the_bound_holds(set_limits):
-    # the eigen route: "auto" sends Rayleigh scenes from CHEBYSHEV_MIN_COORDINATES to Chebyshev
-    set_limits(chebyshev_min_coordinates=10**6)
+def test_rayleigh_chain_matches_its_analytic_modes_and_the_bound_holds():
+    # the eigen route ("auto" prefers Chebyshev here: the eigen bound grows with t and n)
     n = 60
-    sol = ls.solve(chain(n, a="1/50", b="1/20"))
-    assert isinstance(sol.motion, ClassicalMotion) and "classically damped" in sol.reason
+    sol = ls.solve(chain(n, a="1/50", b="1/20"), method="classical")
+    assert isinstance(sol.motion, ClassicalMotion) and "symmetric eigenproblem" in sol.reason
     values, bounds = sol.evaluate(TIMES, return_error=True)
     error = np.abs(values - analytic_chain(n, TIMES, 0.02, 0.05))
     assert error.max() < 1e-13
     assert np.all(bounds + FLOAT_REFERENCE >= error)
 
 
-def test_undamped_chain_matches_its_analytic_modes(set_limits):
-    set_limits(chebyshev_min_coordinates=10**6)  # the eigen route
+def test_undamped_chain_matches_its_analytic_modes():
     n = 40
-    sol = ls.solve(chain(n, a="0", b="0"), method="modal")
+    sol = ls.solve(chain(n, a="0", b="0"), method="classical")
     assert isinstance(sol.motion, ClassicalMotion)
     values, bounds = sol.evaluate(TIMES, return_error=True)
     error = np.abs(values - analytic_chain(n, TIMES, 0.0, 0.0))
@@ -114,7 +112,7 @@ def test_random_classical_scenes_bound_their_error(seed):
     scene = Scene.from_matrices(M=base.M, C=alpha * base.K + beta * base.M, K=base.K,
                                 x0=base.x0, v0=base.v0)
     assert classical_damping(scene)
-    sol = ls.solve(scene)
+    sol = ls.solve(scene, method="classical")
     assert isinstance(sol.motion, ClassicalMotion)
     times = [0.0, 0.7, 2.0, 9.0, 30.0]
     reference = reference_motion(scene, times, dps=40)
@@ -154,11 +152,10 @@ def test_x_beyond_the_closed_form_size_is_a_modal_form():
 
 
 @pytest.mark.parametrize("route", ["eigen", "chebyshev"])
-def test_large_chain_matches_its_analytic_modes(route, set_limits):
+def test_large_chain_matches_its_analytic_modes(route):
     n = 1000
-    if route == "eigen":  # Rayleigh chains this large go to the Chebyshev route by default
-        set_limits(chebyshev_min_coordinates=10**6)
-    sol = ls.solve(chain(n))
+    # Rayleigh chains this large go to the Chebyshev route by default
+    sol = ls.solve(chain(n), method="classical" if route == "eigen" else "auto")
     assert isinstance(sol.motion, ClassicalMotion if route == "eigen" else ChebyshevMotion)
     times = np.linspace(0, 100, 50)
     values, bounds = sol.evaluate(times, return_error=True)

@@ -17,7 +17,6 @@ import pytest
 
 from laplace_springs import Scene, SceneError
 from laplace_springs.bench.reference import reference_motion
-from laplace_springs.limits import limits
 from laplace_springs.numeric.krylov import krylov_refusal
 from laplace_springs.routes.krylov import krylov_ok, krylov_solution
 
@@ -96,7 +95,7 @@ def test_small_scene_matches_the_exact_route_and_keeps_its_closed_form() -> None
     scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[["1/2", 0], [0, 0]],
                                 K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, "1/3"])
     sol = krylov_solution(scene, reason="test")
-    assert sol.escalation == "mp" and sol.x.shape == (2, 1)
+    assert "mp" in sol.plan([1.0]).chain and sol.x.shape == (2, 1)
     exact = np.array(sol.evaluate([0.2, 9.0], dps=30), dtype=float)
     values = sol.evaluate([0.2, 9.0])
     assert np.max(np.abs(values - exact)) < 1e-13
@@ -113,8 +112,8 @@ def test_refusals_name_the_reason() -> None:
 
 
 def test_auto_takes_the_krylov_route_for_a_large_network() -> None:
-    """A chain with one extra wall dashpot (damping not classical) above
-    policy.Limits.krylov_auto_min_coordinates: "auto" takes the krylov route, and its values hold
+    """A 250-mass chain with one extra wall dashpot (damping not classical): "auto" takes the
+    krylov route (the dense 2n x 2n route costs far more), and its values hold
     their bound against the benchmark's independent double-double Taylor reference (SciPy's
     dense expm is off by 4e-13 at t = 40 on this scene, above the route's bound)."""
     import laplace_springs as ls
@@ -125,9 +124,9 @@ def test_auto_takes_the_krylov_route_for_a_large_network() -> None:
         import bench_scaling as bench
     finally:
         sys.path.pop(0)
-    spec = bench.scene_spec("chain-wall-dashpot", limits().krylov_auto_min_coordinates + 50)
+    spec = bench.scene_spec("chain-wall-dashpot", 250)
     sol = ls.solve(bench.build_scene(spec))
-    assert sol.method == "krylov" and "Limits.krylov_auto_min_coordinates" in sol.reason
+    assert sol.method == "krylov" and "250 coordinates" in sol.reason
     times = np.array([0.0, 3.0, 17.5, 40.0])
     reference = bench.DoubleDoubleTaylor(spec).motion(times)
     values, bounds = sol.evaluate(times, return_error=True)

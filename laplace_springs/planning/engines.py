@@ -1,0 +1,338 @@
+"""The engines the planner chooses from: what each can serve and what it costs.
+
+Each engine is described by one :class:`Engine` entry: its name (the fixed vocabulary of
+``Solution.method`` and of evaluation reports), its tier, a refusal test and a cost model.
+The refusal and the cost read only :class:`~laplace_springs.planning.facts.SceneFacts` and
+a :class:`~laplace_springs.planning.request.Request`: they are pure and cheap, no
+decomposition is made to decide. The engines themselves (the numbers) live in
+:mod:`laplace_springs.numeric` and are built by :mod:`laplace_springs.routes.engines`.
+
+Tiers
+-----
+0
+    float64 engines with a running error bound: ``tiny``, ``certified``, ``classical``,
+    ``chebyshev``, ``modal``, ``krylov``, ``exact``.
+1
+    float64 values from refined data (double-double phases and eigenpairs): ``refined``.
+2
+    arbitrary precision: ``ball`` (certified poles in ball arithmetic) and ``mp`` (the
+    exact terms in mpmath). Only these serve ``dps=``.
+
+Cost models
+-----------
+Seconds on one core of the development machine (2 cores, OpenBLAS), fitted to the
+measurements quoted in :mod:`laplace_springs.limits`; they rank engines, they are not
+promises. ``build`` is paid once per solution, ``run`` per request.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ..limits import limits
+from .facts import SceneFacts
+from .request import Request
+
+__all__ = ["Cost", "Refusal", "Engine", "ENGINES", "ENGINE_NAMES", "engine"]
+
+_DOUBLE = 8.0  # bytes per float64
+
+
+@dataclass(frozen=True)
+class Cost:
+    """Estimated seconds (to build the engine's data, and to run the request) and peak
+    memory in bytes."""
+
+    build: float
+    run: float
+    memory: float = 0.0
+
+    @property
+    def seconds(self) -> float:
+        return self.build + self.run
+
+
+@dataclass(frozen=True)
+class Refusal:
+    """Why an engine declines a request: a sentence, and the limit when it is one."""
+
+    engine: str
+    reason: str
+    limit: str | None = None
+
+    def __str__(self) -> str:
+        return f"{self.engine}: {self.reason}"
+
+
+@dataclass(frozen=True)
+class Engine:
+    """One engine of the planner's table.
+
+    Attributes
+    ----------
+    name : str
+        Its name in ``Solution.method`` and in reports.
+    tier : int
+        0, 1 or 2 (see the module notes).
+    summary : str
+        What it does, for reasons and plans.
+    refusal : callable
+        ``(facts, request) -> str | None``: why it cannot serve, or None.
+    cost : callable
+        ``(facts, request) -> Cost``.
+    horizon : callable
+        ``(facts, request) -> float``: the largest time it serves for this request (inf
+        when any).
+    expectation : callable
+        ``(facts, request) -> str | None``: why its bound is expected to miss the target
+        (it still serves; "auto" prefers engines expected to meet it), or None.
+    precision : float
+        The relative bound it typically reaches (a time that escalates goes only to
+        engines that reach further).
+    """
+
+    name: str
+    tier: int
+    summary: str
+    refusal: Callable[[SceneFacts, Request], str | None]
+    cost: Callable[[SceneFacts, Request], Cost]
+    horizon: Callable[[SceneFacts, Request], float] = lambda facts, request: math.inf
+    expectation: Callable[[SceneFacts, Request], str | None] = lambda facts, request: None
+    precision: float = 1e-14
+
+    def refuses(self, facts: SceneFacts, request: Request) -> Refusal | None:
+        """A :class:`Refusal`, or None when the engine can serve the request."""
+        if request.dps is not None and self.tier < 2:
+            return Refusal(self.name, "evaluates in float64 only (dps= needs ball or mp)")
+        why = self.refusal(facts, request)
+        if why is None:
+            return None
+        limit = why.split("Limits.", 1)[1].split()[0].strip(".,;)") if "Limits." in why else None
+        return Refusal(self.name, why, limit)
+
+
+# ----------------------------------------------------------------------------- refusals
+
+
+def _numeric(facts: SceneFacts) -> str | None:
+    if facts.symbolic:
+        return "the scene has symbols"
+    if facts.forced:
+        return "the scene is forced"
+    if not facts.first_order:
+        return "the scene has no first-order form (massless nodes not held by dashpots)"
+    return None
+
+
+def _size(facts: SceneFacts, field: str, what: str, order: bool = False) -> str | None:
+    value = getattr(limits(), field)
+    size = 2 * facts.n if order else facts.n
+    if size > value:
+        return f"{what} {size:,} > Limits.{field} = {value:,}"
+    return None
+
+
+def _tiny_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return (_numeric(facts) or _size(facts, "tiny_max_coordinates", "coordinates")
+            or (None if facts.rational else "needs rational entries"))
+
+
+def _certified_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return (_numeric(facts) or (None if facts.rational else "needs rational entries")
+            or _size(facts, "certified_max_order", "first-order size 2n =", order=True))
+
+
+def _symmetric_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return (_numeric(facts)
+            or (None if facts.classical else "the damping is not classical (C M⁻¹K ≠ K M⁻¹C)")
+            or _size(facts, "classical_max_coordinates", "coordinates"))
+
+
+def _classical_expectation(facts: SceneFacts, request: Request) -> str | None:
+    """The eigen route's bound grows like t·‖residual‖/ω_min: about 50·t·ρ·n·u of the
+    solution's size (measured: one mass ω = 2, 2.9e-15·t; the seed's pair 3.3e-14·t;
+    Rayleigh chains, times on [0, 50]: 20 masses 8.5e-14, 100 masses 1.2e-9)."""
+    if facts.pole_bound is None:
+        return None
+    expected = 50 * request.t_max * facts.pole_bound * facts.n * 2.0**-53
+    if expected <= request.target:
+        return None
+    return (f"its bound is expected to miss the target at t = {request.t_max:g} "
+            f"(50·t·ρ·n·u = {expected:.1e} > {request.target:g})")
+
+
+def _chebyshev_refusal(facts: SceneFacts, request: Request) -> str | None:
+    if why := _numeric(facts):
+        return why
+    if not facts.rayleigh:
+        return "the damping is not Rayleigh's (C = aK + bM with a diagonal M)"
+    if facts.stiffness_bound is None:
+        return "no verified bound on the spectrum of M⁻¹K (needs rational entries)"
+    return _size(facts, "chebyshev_max_coordinates", "coordinates")
+
+
+def _modal_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return _numeric(facts) or _size(facts, "general_modal_max_coordinates", "coordinates")
+
+
+def _krylov_refusal(facts: SceneFacts, request: Request) -> str | None:
+    if why := _numeric(facts):
+        return why
+    if not facts.krylov or facts.pole_bound is None:
+        return ("needs rational entries, a diagonal positive M, and K ⪰ 0, C + Cᵀ ⪰ 0 proved "
+                "by diagonal dominance")
+    return None
+
+
+def _modal_expectation(facts: SceneFacts, request: Request) -> str | None:
+    """The general modal engine's bound (sampled on perturbed decompositions) is about
+    (2e-14 + 2e-15·n) of the solution's size, whatever t (measured on damped chains of 2 to
+    50 masses, t = 1, 10, 100: 1.4e-14 at 2 masses, 1e-13 to 1.4e-13 at 50)."""
+    expected = 2e-14 + 2e-15 * facts.n
+    if expected <= request.target:
+        return None
+    return f"its bound is expected to miss the target ({expected:.1e} > {request.target:g})"
+
+
+def _exact_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return _size(facts, "max_exact_coordinates", "coordinates")
+
+
+def _mp_refusal(facts: SceneFacts, request: Request) -> str | None:
+    return _size(facts, "exact_fallback_max_coordinates", "coordinates")
+
+
+# ----------------------------------------------------------------------------- costs
+
+
+def _chebyshev_degree(facts: SceneFacts, t: float) -> float:
+    """Chebyshev degree N ≈ t·√ν/2 + 40 for the largest time t (ν ≥ λ_max(M⁻¹K))."""
+    return t * math.sqrt(facts.stiffness_bound or 0.0) / 2 + 40
+
+
+def _chebyshev_horizon(facts: SceneFacts, request: Request) -> float:
+    """The largest t whose 2·n·(N+1) vectors fit in Limits.chebyshev_max_vector_floats."""
+    if not facts.stiffness_bound:
+        return math.inf
+    degree = limits().chebyshev_max_vector_floats / (2 * max(facts.n, 1)) - 41
+    return max(degree - 40, 0.0) * 2 / math.sqrt(facts.stiffness_bound)
+
+
+def _krylov_steps(facts: SceneFacts, t: float) -> float:
+    return t * (facts.pole_bound or 0.0) / limits().krylov_step_norm
+
+
+def _krylov_horizon(facts: SceneFacts, request: Request) -> float:
+    if not facts.pole_bound:
+        return math.inf
+    return limits().krylov_max_steps * limits().krylov_step_norm / facts.pole_bound
+
+
+def _run(request: Request, per_value: float, n: int) -> float:
+    return request.count * max(n, 1) * per_value
+
+
+def _tiny_cost(facts: SceneFacts, request: Request) -> Cost:
+    return Cost(5e-5, _run(request, 4e-8 * (2 * facts.n), facts.n))
+
+
+def _certified_cost(facts: SceneFacts, request: Request) -> Cost:
+    """Roots and residues, then the pole sums' Newton data on first use (measured: 8-mass
+    chain 3.5 ms + 34 ms; 50-mass chain 0.1 s + 1.9 s)."""
+    degree = 2 * facts.n
+    return Cost(1.5e-3 + 1.5e-4 * degree**2 + 1e-6 * degree**3,
+                _run(request, 2e-8 * degree, facts.n))
+
+
+def _classical_cost(facts: SceneFacts, request: Request) -> Cost:
+    n = facts.n
+    build = 1e-4 + (2e-8 * n * n if facts.diagonal_mass else 1e-8 * n**3)
+    return Cost(build, _run(request, 4e-9 * n, n), _DOUBLE * n * n)
+
+
+def _chebyshev_cost(facts: SceneFacts, request: Request) -> Cost:
+    degree = _chebyshev_degree(facts, min(request.t_max, _chebyshev_horizon(facts, request)))
+    build = 1e-3 + 1.2e-8 * degree * (facts.nnz + facts.n)
+    run = request.count * degree * (5e-9 * facts.n + 2e-7)
+    return Cost(build, run, 2 * _DOUBLE * facts.n * (degree + 1))
+
+
+def _modal_cost(facts: SceneFacts, request: Request) -> Cost:
+    order = 2 * facts.n  # four decompositions of the 2n x 2n matrix: 200 coordinates 1 s
+    return Cost(2e-3 + 1.5e-8 * order**3, _run(request, 1e-8 * order, facts.n),
+                4 * 16 * order * order)
+
+
+def _krylov_cost(facts: SceneFacts, request: Request) -> Cost:
+    """Each Taylor step costs about 1.5 ms of fixed overhead (a few dozen vectorised
+    double-double products) plus its products (measured: 8-mass chain, 110 steps 0.15 s;
+    200-mass chain 0.23–0.44 s)."""
+    steps = _krylov_steps(facts, min(request.t_max, _krylov_horizon(facts, request)))
+    return Cost(1e-3 + 1e-6 * facts.nnz, steps * (1.5e-3 + 2e-7 * (facts.nnz + facts.n))
+                + _run(request, 2e-8, facts.n), _DOUBLE * 8 * (facts.nnz + facts.n))
+
+
+def _refined_cost(facts: SceneFacts, request: Request) -> Cost:
+    n = facts.n
+    return Cost(1e-3 + 2e-7 * n**3, _run(request, 1.5e-8 * n, n), 3 * _DOUBLE * n * n)
+
+
+def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
+    n = facts.n  # damped chains: 8 coordinates 2.9 s, 12 coordinates 13 s
+    build = 0.02 if n <= 2 else 2.9 * (n / 8) ** 4
+    return Cost(build, _run(request, 2e-6, n))
+
+
+def _mp_cost(facts: SceneFacts, request: Request) -> Cost:
+    exact = _exact_cost(facts, request)
+    return Cost(exact.build, _run(request, 2e-3, facts.n))
+
+
+def _ball_cost(facts: SceneFacts, request: Request) -> Cost:
+    certified = _certified_cost(facts, request)
+    return Cost(certified.build, _run(request, 2e-4 * facts.n, facts.n))
+
+
+#: The planner's table. Adding an engine is one module in numeric/, one builder in
+#: routes/engines.py and one entry here.
+ENGINES: tuple[Engine, ...] = (
+    Engine("tiny", 0, "closed-form poles of a small scene in float64 with a residual bound",
+           _tiny_refusal, _tiny_cost, precision=2e-14),
+    Engine("certified", 0, "poles and residues certified by python-flint, float64 pole sums",
+           _certified_refusal, _certified_cost, precision=2e-15),
+    Engine("classical", 0, "real modes of the symmetric eigenproblem of size n",
+           _symmetric_refusal, _classical_cost, expectation=_classical_expectation,
+           precision=5e-14),
+    Engine("chebyshev", 0, "Chebyshev expansion in M⁻¹K with sparse products",
+           _chebyshev_refusal, _chebyshev_cost, _chebyshev_horizon, precision=3e-14),
+    Engine("modal", 0, "conditioned eigen-decomposition of the 2n x 2n first-order matrix",
+           _modal_refusal, _modal_cost, expectation=_modal_expectation, precision=8e-14),
+    Engine("krylov", 0, "double-double Taylor steps of the sparse first-order system, "
+           "bounded through the energy", _krylov_refusal, _krylov_cost, _krylov_horizon,
+           precision=2e-14),
+    Engine("exact", 0, "exact partial fractions, float64 pole sums", _exact_refusal,
+           _exact_cost, precision=2e-15),
+    Engine("refined", 1, "eigenpairs refined in double-double, phases ωt in double-double",
+           _symmetric_refusal, _refined_cost, precision=1e-15),
+    Engine("ball", 2, "certified poles evaluated in ball arithmetic", _certified_refusal,
+           _ball_cost, precision=0.0),
+    Engine("mp", 2, "the exact terms evaluated in mpmath", _mp_refusal, _mp_cost,
+           precision=0.0),
+)
+
+#: The engine names: the vocabulary of ``Solution.method`` and of evaluation reports.
+ENGINE_NAMES: tuple[str, ...] = tuple(e.name for e in ENGINES)
+
+
+def engine(name: str) -> Engine:
+    """The table's entry for ``name``.
+
+    >>> engine("krylov").tier
+    0
+    """
+    for entry in ENGINES:
+        if entry.name == name:
+            return entry
+    raise KeyError(name)

@@ -1,0 +1,167 @@
+"""Executing a plan: each engine of the chain evaluates the times still missing the target.
+
+The executor knows nothing of engines but their names and the evaluator a caller builds
+for each (``build(name)`` returns ``evaluate(times, order, target) -> (values, bounds)``
+or a :class:`~laplace_springs.planning.engines.Refusal` found while building, such as an
+eigen-solver failure). For every time it keeps the values whose bound is smallest, and
+moves on to the next engine only with the times whose bound misses the target (the
+decision for a time looks at that time alone). Engines are called on chunks of times, so
+an evaluation holds a bounded amount of memory, shows progress when the plan expects it
+to take long, and a Ctrl-C leaves every cache of the solution whole.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..limits import limits
+from ..numeric.times import Times
+from ..policy import column_scales, escalate_columns
+from .engines import Refusal
+from .plan import Plan
+from .progress import Progress
+
+__all__ = ["EvaluationReport", "Evaluator", "execute", "relative_bounds", "BUILDERS",
+           "DIGIT_HOSTS", "register_engine"]
+
+Evaluator = Callable[[Times, int, float], tuple[np.ndarray, np.ndarray]]
+
+#: engine name -> ``build(solution) -> Evaluator | Refusal``: filled by
+#: :mod:`laplace_springs.routes.engines` (the routes sit above this stage).
+BUILDERS: dict[str, Callable[[Any], Evaluator | Refusal]] = {}
+#: engine name -> ``host(solution) -> Solution | Refusal`` whose ``_digits`` gives ``dps``
+#: digits (the arbitrary-precision engines only).
+DIGIT_HOSTS: dict[str, Callable[[Any], Any]] = {}
+
+
+def register_engine(name: str, build: Callable[[Any], Evaluator | Refusal],
+                    digits: Callable[[Any], Any] | None = None) -> None:
+    """Make engine ``name`` buildable (and, for arbitrary precision, its digits host)."""
+    BUILDERS[name] = build
+    if digits is not None:
+        DIGIT_HOSTS[name] = digits
+
+
+@dataclass(frozen=True, eq=False)
+class EvaluationReport:
+    """Which engine produced each time of an evaluation, under which plan.
+
+    Attributes
+    ----------
+    plan : Plan
+    engines : tuple of str
+        The engine whose values were kept, per time.
+    relative_bounds : numpy.ndarray
+        Per time, the largest bound divided by the contract's scale max(‖x(t)‖∞, S₀).
+    refusals : tuple of Refusal
+        Engines of the chain that could not be built for this scene.
+    """
+
+    plan: Plan
+    engines: tuple[str, ...]
+    relative_bounds: np.ndarray
+    refusals: tuple[Refusal, ...] = ()
+
+    def counts(self) -> dict[str, int]:
+        """engine -> number of times it produced."""
+        return dict(Counter(self.engines))
+
+    def __str__(self) -> str:
+        used = ", ".join(f"{name}: {count} time{'s' if count != 1 else ''}"
+                         for name, count in self.counts().items())
+        worst = float(np.max(self.relative_bounds, initial=0.0))
+        return f"{used}; largest bound {worst:.2g} of the scale\n{self.plan}"
+
+
+def relative_bounds(values: np.ndarray, bounds: np.ndarray, floor: float) -> np.ndarray:
+    """Per column, the largest bound over the scale (inf for a non-finite value or bound)."""
+    if values.shape[1] == 0:
+        return np.zeros(0)
+    scale = column_scales(values, floor)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        worst = np.max(bounds, axis=0) / np.where(scale > 0, scale, np.inf)
+        worst = np.where(np.max(bounds, axis=0) == 0, 0.0, worst)
+        bad = ~np.all(np.isfinite(values) & np.isfinite(bounds), axis=0)
+    return np.where(bad | np.isnan(worst), np.inf, worst)
+
+
+def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Times, n: int,
+            order: int, target: float, floor: float,
+            progress: bool | None = None) -> tuple[np.ndarray, np.ndarray, EvaluationReport]:
+    """Run ``plan`` at ``times``: float64 values, bounds (shape (n, len(times))) and a report.
+
+    Parameters
+    ----------
+    plan : Plan
+    build : callable
+        ``build(engine) -> evaluator | Refusal``.
+    times : Times
+    n : int
+        Coordinates.
+    order : int
+        Derivative.
+    target : float
+        Relative accuracy: a time moves on to the next engine while its bound exceeds
+        ``target`` times max(‖x(t)‖∞, floor).
+    floor : float
+        S₀·ρ^order, the contract's floor of the scale.
+    progress : bool, optional
+        Show a progress bar on stderr (default: when the plan expects more than
+        ``Limits.progress_after_seconds``).
+    """
+    count = len(times)
+    values = np.full((n, count), np.nan)
+    bounds = np.full((n, count), np.inf)
+    source = np.full(count, "", dtype=object)
+    pending = np.ones(count, dtype=bool)
+    refusals: list[Refusal] = []
+    show = plan.seconds > limits().progress_after_seconds if progress is None else progress
+    bar = Progress(count * max(len(plan.chain), 1), enabled=bool(show), unit="evaluations")
+    try:
+        for name in plan.chain:
+            columns = np.flatnonzero(pending & (times.hi <= plan.horizons.get(name, np.inf)))
+            if columns.size == 0:
+                continue
+            evaluator = build(name)
+            if isinstance(evaluator, Refusal):
+                refusals.append(evaluator)
+                continue
+            for chunk in _chunks(columns, n):
+                bar.update(name, f"{chunk.size} times")
+                _keep(evaluator(times.subset(chunk), order, target), chunk, name,
+                      values, bounds, source)
+                bar.advance(chunk.size)
+            pending = escalate_columns(values, bounds, floor, target)
+            if not pending.any():
+                break
+    finally:
+        bar.close()
+    report = EvaluationReport(plan, tuple(source), relative_bounds(values, bounds, floor),
+                              tuple(refusals))
+    return values, bounds, report
+
+
+def _chunks(columns: np.ndarray, n: int) -> list[np.ndarray]:
+    """Columns in pieces of at most Limits.evaluation_chunk_values values."""
+    size = max(1, limits().evaluation_chunk_values // max(n, 1))
+    return [columns[i:i + size] for i in range(0, columns.size, size)]
+
+
+def _keep(result: tuple[np.ndarray, np.ndarray], chunk: np.ndarray, name: str,
+          values: np.ndarray, bounds: np.ndarray, source: Any) -> None:
+    """Per time, keep the new values where their largest bound is smaller."""
+    new, new_bounds = result
+    with np.errstate(invalid="ignore"):
+        old_worst = np.max(bounds[:, chunk], axis=0)
+        new_worst = np.max(np.where(np.isfinite(new), new_bounds, np.inf), axis=0)
+        take = ~(new_worst >= old_worst) & np.all(np.isfinite(new), axis=0) \
+            | np.isnan(values[:, chunk]).any(axis=0)
+    columns = chunk[take]
+    values[:, columns] = new[:, take]
+    bounds[:, columns] = new_bounds[:, take]
+    source[columns] = name

@@ -1,0 +1,154 @@
+"""What the planner knows of a scene: :class:`SceneFacts`, read in time proportional to the
+scene's nonzero entries and cached with the scene.
+
+The facts are structural (size, nonzeros, exact or symbolic, forcing, the damping class,
+a first-order form) and numerical where that is cheap and certain: for a rational scene
+with a diagonal positive M, verified upper bounds on the spectrum of M⁻¹K and on every
+pole |λ| (Gershgorin in the mass-weighted norm, summed with a safety margin that covers
+float64 rounding), which the planner's cost models read.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from ..model.scene import Scene
+from ..numeric.chebyshev import rayleigh_coefficients
+from ..numeric.classical import classical_damping
+from ..numeric.first_order import (
+    has_first_order_form,
+    massless_nodes,
+    rational_entries,
+    scene_cache,
+    scene_entries,
+)
+from ..numeric.krylov import krylov_refusal
+
+__all__ = ["SceneFacts", "scene_facts"]
+
+#: Relative margin on sums of non-negative float64 terms (≤ n·u for n ≤ 10⁶ terms).
+_MARGIN = 1 + 1e-9
+
+
+@dataclass(frozen=True)
+class SceneFacts:
+    """What the planner needs to know of a scene.
+
+    Attributes
+    ----------
+    n : int
+        Coordinates.
+    symbolic : bool
+        Some entry has a free symbol.
+    forced : bool
+        An external force acts (formula, periodic or sampled).
+    rational : bool
+        Every entry of M, C, K, x0, v0 is a rational number.
+    first_order : bool
+        M invertible, or massless nodes held by dashpots: y' = Z y exists.
+    classical : bool
+        Undamped or classically damped (C M⁻¹K = K M⁻¹C, checked exactly).
+    rayleigh : bool
+        C = aK + bM exactly (a, b ≥ 0) with a diagonal positive M.
+    krylov : bool
+        Rational, unforced, diagonal positive M, K ⪰ 0 and C + Cᵀ ⪰ 0 proved exactly.
+    nnz : int
+        Nonzero entries of M, C and K together.
+    diagonal_mass : bool
+        M is diagonal (and has no massless node).
+    stiffness_bound : float or None
+        A verified upper bound on the eigenvalues of M⁻¹K (diagonal positive rational M),
+        else None.
+    pole_bound : float or None
+        A verified upper bound on every |λ| with det(λ²M + λC + K) = 0 (same condition).
+    sampled : bool
+        A force is a sampled history.
+    """
+
+    n: int
+    symbolic: bool
+    forced: bool
+    rational: bool
+    first_order: bool
+    classical: bool = False
+    rayleigh: bool = False
+    krylov: bool = False
+    nnz: int = 0
+    diagonal_mass: bool = False
+    stiffness_bound: float | None = None
+    pole_bound: float | None = None
+    sampled: bool = False
+
+    @property
+    def numeric(self) -> bool:
+        """Unforced, numbers only, with a first-order form: every float engine may try it."""
+        return self.first_order and not self.forced and not self.symbolic
+
+
+def scene_facts(scene: Scene) -> SceneFacts:
+    """The facts of a scene (cached with it).
+
+    Examples
+    --------
+    >>> facts = scene_facts(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))
+    >>> facts.n, facts.rational, facts.classical, facts.krylov, round(facts.pole_bound, 6)
+    (1, True, True, True, 3.0)
+    >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0],
+    ...                                 parameters=["k"])).symbolic
+    True
+    """
+    table = scene_cache(scene)
+    if "facts" not in table:
+        table["facts"] = _facts(scene)
+    facts: SceneFacts = table["facts"]
+    return facts
+
+
+def _facts(scene: Scene) -> SceneFacts:
+    exact = {name: rational_entries(scene, name) for name in ("M", "C", "K", "x0", "v0")}
+    rational = all(entries is not None for entries in exact.values())
+    sampled = scene.sampled is not None
+    # rational matrices have no symbols (read from their domain: no SymPy walk of every entry)
+    symbolic = not (rational and scene.forcing is None and not sampled) and bool(scene.free_symbols)
+    forced = scene.is_forced or sampled
+    first_order = not symbolic and has_first_order_form(scene)
+    unforced = first_order and not forced
+    rayleigh = unforced and rayleigh_coefficients(scene) is not None  # O(nnz), implies classical
+    classical = rayleigh or (unforced and classical_damping(scene))
+    M = exact["M"] if exact["M"] is not None else scene_entries(scene, "M")
+    diagonal = all(i == j for i, j in M) and len(M) == scene.n and not massless_nodes(scene)
+    nnz = sum(len(scene_entries(scene, name)) for name in ("M", "C", "K"))
+    stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
+    return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
+                      rational=not symbolic and rational, first_order=first_order,
+                      classical=classical, rayleigh=rayleigh,
+                      krylov=unforced and rational and krylov_refusal(scene) is None,
+                      nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
+                      pole_bound=poles, sampled=sampled)
+
+
+def _bounds(exact: dict[str, Any]) -> tuple[float | None, float | None]:
+    """Verified bounds on λ_max(M⁻¹K) and on |λ| for a diagonal positive rational M.
+
+    With D = M^{1/2}, the poles are those of the first-order operator in the energy
+    norm, whose norm is at most √ρ(D⁻¹|K|D⁻¹) + ρ(D⁻¹|C|D⁻¹) (each spectral radius below a
+    Gershgorin row sum); the row sums are of non-negative terms, so a relative margin of
+    1e-9 covers their float64 rounding for up to 10⁶ terms per row.
+    """
+    mass = {i: float(v) for (i, _), v in exact["M"].items()}
+    if not mass or min(mass.values()) <= 0:
+        return None, None
+    root = {i: math.sqrt(m) for i, m in mass.items()}
+    rows_K: dict[int, float] = {}
+    for (i, j), value in exact["K"].items():
+        rows_K[i] = rows_K.get(i, 0.0) + abs(float(value)) / (root[i] * root[j])
+    rows_C: dict[int, float] = {}
+    for (i, j), value in exact["C"].items():
+        rows_C[i] = rows_C.get(i, 0.0) + abs(float(value)) / (root[i] * root[j])
+    stiffness = max(rows_K.values(), default=0.0) * _MARGIN**3
+    damping = max(rows_C.values(), default=0.0) * _MARGIN**3
+    if not (math.isfinite(stiffness) and math.isfinite(damping)):
+        return None, None
+    return stiffness, (math.sqrt(stiffness) + damping) * _MARGIN

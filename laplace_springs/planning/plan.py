@@ -1,0 +1,188 @@
+"""The planner: one pure function from a scene's facts and a request to a :class:`Plan`.
+
+:func:`plan` takes the cheapest float64 engine that serves the request (its primary), the
+engines that serve the times beyond the primary's horizon, and the escalation chain for
+the times whose bound misses the target: the refined engine, then the other float64
+engines, then the arbitrary-precision ones. ``solve`` and ``Solution.evaluate`` only
+execute plans (:mod:`laplace_springs.planning.execute`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from .engines import ENGINE_NAMES, ENGINES, Cost, Engine, Refusal, engine
+from .facts import SceneFacts
+from .request import Request
+
+__all__ = ["Plan", "plan", "METHODS", "FAMILIES"]
+
+#: Requested methods that name a family of engines rather than one engine: "modal" (and
+#: its former name "numeric") is the float64 eigen family, whose member the structure
+#: decides (symmetric eigenproblem, Chebyshev expansion, or the general 2n x 2n one).
+FAMILIES: dict[str, tuple[str, ...]] = {
+    "modal": ("classical", "chebyshev", "modal"),
+    "numeric": ("classical", "chebyshev", "modal"),
+}
+#: What ``solve(method=...)`` accepts.
+METHODS: tuple[str, ...] = ("auto", *ENGINE_NAMES, *FAMILIES)
+
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Which engines serve a request, in which order, and why.
+
+    Attributes
+    ----------
+    request : Request
+    method : str
+        What was asked ("auto", an engine, or a family).
+    chain : tuple of str
+        The engines in the order they are tried: the primary first, then the engines for
+        times beyond its horizon, then the escalation for times whose bound misses the
+        target. Empty when no engine serves.
+    horizons : dict
+        engine -> the largest time it serves for this request.
+    costs : dict
+        engine -> estimated :class:`~laplace_springs.planning.engines.Cost`.
+    refusals : tuple of Refusal
+        The engines that declined, and why.
+    reason : str
+        One sentence: the primary engine and why it was chosen.
+    """
+
+    request: Request
+    method: str
+    chain: tuple[str, ...]
+    horizons: dict[str, float] = field(default_factory=dict)
+    costs: dict[str, Cost] = field(default_factory=dict)
+    refusals: tuple[Refusal, ...] = ()
+    reason: str = ""
+
+    @property
+    def primary(self) -> str | None:
+        """The engine tried first (None when no engine serves the request)."""
+        return self.chain[0] if self.chain else None
+
+    @property
+    def seconds(self) -> float:
+        """Estimated seconds of the primary engine."""
+        return self.costs[self.chain[0]].seconds if self.chain else 0.0
+
+    def __str__(self) -> str:
+        lines = [f"plan for {self.request} (method={self.method!r}): {self.reason}"]
+        for name in self.chain:
+            cost, horizon = self.costs[name], self.horizons.get(name, math.inf)
+            until = "" if math.isinf(horizon) else f", times up to {horizon:.3g}"
+            lines.append(f"  {name:10s} ~{cost.seconds:.2g} s{until}: {engine(name).summary}")
+        lines += [f"  declined   {refusal}" for refusal in self.refusals]
+        return "\n".join(lines)
+
+
+def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
+         built: Iterable[str] = (), available: Iterable[str] | None = None) -> Plan:
+    """The plan for ``request`` on a scene with ``facts``.
+
+    The primary is the cheapest engine of the first tier that serves every time of the
+    request and is not expected to miss the target (or the cheapest that serves, when
+    none is expected to meet it); engines with a longer horizon follow for the times
+    beyond it; then, for times whose bound misses the target, every engine that reaches a
+    tighter bound than the primary: the refined engine first, then by cost.
+
+    Parameters
+    ----------
+    facts : SceneFacts
+    request : Request
+    method : str
+        "auto", an engine name, or a family ("modal"): a named engine or family restricts
+        the primary; escalation stays open.
+    built : iterable of str
+        Engines whose data a solution already holds (their build cost is not counted).
+    available : iterable of str, optional
+        The engines that can be built here (all by default).
+
+    Examples
+    --------
+    >>> from laplace_springs.planning.facts import SceneFacts
+    >>> facts = SceneFacts(n=200, symbolic=False, forced=False, rational=True, first_order=True,
+    ...                    classical=True, rayleigh=True, krylov=True, nnz=800,
+    ...                    diagonal_mass=True, stiffness_bound=4.0, pole_bound=2.0)
+    >>> plan(facts, Request(count=10, t_max=50.0)).chain[:2]
+    ('chebyshev', 'refined')
+    >>> plan(facts, Request(count=2, t_max=1e6)).primary
+    'refined'
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    names = set(ENGINE_NAMES if available is None else available)
+    built = set(built)
+    serving: list[Engine] = []
+    refusals: list[Refusal] = []
+    for entry in ENGINES:
+        if entry.name not in names:
+            continue
+        refusal = entry.refuses(facts, request)
+        if refusal is None:
+            serving.append(entry)
+        else:
+            refusals.append(refusal)
+    costs = {e.name: _cost(e, facts, request, built) for e in serving}
+    horizons = {e.name: e.horizon(facts, request) for e in serving}
+    # a named engine or family restricts the float64 primary; digits come from tier 2
+    wanted = FAMILIES.get(method, (method,)) if method != "auto" and request.dps is None else None
+    chain = _chain(serving, costs, horizons, facts, request, wanted)
+    return Plan(request, method, chain, horizons, costs, tuple(refusals),
+                _reason(chain, costs, method, facts, request, refusals))
+
+
+def _cost(entry: Engine, facts: SceneFacts, request: Request, built: set[str]) -> Cost:
+    cost = entry.cost(facts, request)
+    return Cost(0.0, cost.run, cost.memory) if entry.name in built else cost
+
+
+def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, float],
+           facts: SceneFacts, request: Request, wanted: tuple[str, ...] | None) -> tuple[str, ...]:
+    """Primary, then cover of the times beyond its horizon, then escalation."""
+    def key(e: Engine) -> float:
+        return costs[e.name].seconds
+
+    float_engines = request.dps is None
+    primaries = [e for e in serving if (e.tier < 2 if float_engines else e.tier == 2)
+                 and (wanted is None or e.name in wanted)]
+    if not primaries:
+        if wanted is not None:
+            return ()
+        primaries = [e for e in serving if e.tier == min((x.tier for x in serving), default=0)]
+    covering = [e for e in primaries if horizons[e.name] >= request.t_max]
+    confident = [e for e in covering or primaries if wanted is not None
+                 or e.expectation(facts, request) is None]
+    # a refined (tier 1) engine is a primary only where no float64 engine is expected to do
+    ordinary = [e for e in confident if e.tier == 0]
+    primary = min(ordinary or confident or covering or primaries, key=key, default=None)
+    if primary is None:
+        return ()
+    rest = [e for e in serving if e is not primary]
+    beyond = sorted((e for e in rest if e.tier == primary.tier
+                     and horizons[primary.name] < request.t_max < math.inf
+                     and horizons[e.name] > horizons[primary.name]), key=key)
+    escalation = sorted((e for e in rest if e not in beyond and e.precision < primary.precision),
+                        key=lambda e: (e.tier != 1, e.expectation(facts, request) is not None,
+                                       key(e)))
+    return tuple(e.name for e in [primary, *beyond, *escalation])
+
+
+def _reason(chain: tuple[str, ...], costs: dict[str, Cost], method: str, facts: SceneFacts,
+            request: Request, refusals: list[Refusal]) -> str:
+    size = f"{facts.n:,} coordinate{'s' if facts.n != 1 else ''}"
+    if not chain:
+        declined = "; ".join(str(r) for r in refusals) or "no engine is available"
+        return f"no engine serves {size} and {request} with method={method!r}: {declined}"
+    primary = chain[0]
+    how = (f"method={method!r} was requested" if method != "auto"
+           else "the cheapest engine that serves the request")
+    others = ", ".join(f"{name} ~{costs[name].seconds:.2g} s" for name in chain[1:4])
+    return (f"{primary} ({engine(primary).summary}): {how} for {size} and {request}, "
+            f"~{costs[primary].seconds:.2g} s" + (f"; then {others}" if others else ""))

@@ -1,0 +1,155 @@
+"""Building the planner's engines for a solution: one builder per engine name.
+
+A builder takes the solution being evaluated and returns an evaluator
+``(times, order, target) -> (values, bounds)``, or a
+:class:`~laplace_springs.planning.engines.Refusal` when the engine finds, while building,
+that it cannot hold the scene (an eigen-solver failure, a scale beyond float64: a
+:class:`~laplace_springs.model.errors.FloatRangeError`). The data an engine builds is kept
+by the solution (its ``_evaluators``), so a scene is decomposed at most once per engine.
+Importing this module registers the builders with the executor
+(:data:`laplace_springs.planning.execute.BUILDERS`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ..exact.assembly import exact_motion
+from ..exact.screening import exact_refusal
+from ..limits import limits
+from ..model.errors import FloatRangeError
+from ..numeric.certified import certified_poles
+from ..numeric.chebyshev import chebyshev_motion
+from ..numeric.classical import classical_motion
+from ..numeric.krylov import krylov_motion
+from ..numeric.modal import decompose_modal
+from ..planning.engines import Refusal
+from ..planning.execute import Evaluator, register_engine
+from ..solution import Solution
+from .certified import CertifiedSolution
+from .exact import ExactSolution
+from .krylov import KrylovSolution
+from .modal import ModalSolution
+
+__all__ = ["host", "solution_for"]
+
+
+def _float_of(solution: Solution) -> Evaluator:
+    return lambda times, order, target: solution._float(times, order)
+
+
+def _escalation_of(solution: Solution) -> Evaluator:
+    return solution._escalate
+
+
+def _exact_host(solution: Solution) -> ExactSolution | Refusal:
+    if isinstance(solution, ExactSolution):
+        return solution
+    found = solution.__dict__.get("_exact_host")
+    if found is None:
+        why = exact_refusal(solution.scene)
+        if why is not None:
+            found = Refusal("exact", why)
+        else:
+            form = solution._exact_form
+            found = form if isinstance(form, ExactSolution) else ExactSolution(
+                exact_motion(solution.scene), reason="exact terms for the plan",
+                target=solution.target)
+        solution.__dict__["_exact_host"] = found
+    return found  # type: ignore[no-any-return]
+
+
+def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
+    if isinstance(solution, CertifiedSolution):
+        return solution
+    found = solution.__dict__.get("_certified_host")
+    if found is None:
+        poles = certified_poles(solution.scene)
+        found = (Refusal("certified", "the scene has no exact first-order form") if poles is None
+                 else CertifiedSolution(solution.scene, poles, reason="certified poles for the plan",
+                                        target=solution.target))
+        solution.__dict__["_certified_host"] = found
+    return found  # type: ignore[no-any-return]
+
+
+#: The float64 engines hosted by a solution class of their own:
+#: name -> (scene, reason, target) -> Solution.
+def _classical(scene: Any, reason: str, target: float) -> Solution | Refusal:
+    """The symmetric eigen engine; rigid-body motion (a zero frequency) goes to the general
+    modal engine, which splits it off exactly, where that engine takes the scene."""
+    motion = classical_motion(scene)
+    if scene.n <= limits().general_modal_max_coordinates and motion.has_zero_frequency:
+        return Refusal("classical", "a zero frequency (rigid-body motion): the general modal "
+                       "engine splits it off exactly")
+    return ModalSolution(scene, motion, reason=reason, target=target)
+
+
+_FLOAT_SOLUTIONS: dict[str, Callable[[Any, str, float], Solution | Refusal]] = {
+    "classical": _classical,
+    "chebyshev": lambda scene, reason, target: ModalSolution(
+        scene, chebyshev_motion(scene), reason=reason, target=target),
+    "modal": lambda scene, reason, target: ModalSolution(
+        scene, decompose_modal(scene), reason=reason, target=target),
+    "krylov": lambda scene, reason, target: KrylovSolution(
+        scene, krylov_motion(scene), reason=reason, target=target),
+}
+
+
+def _numeric_host(name: str) -> Callable[[Solution], Any]:
+    """The builder of a float64 engine: a Refusal when float64 cannot hold the scene."""
+    def build(solution: Solution) -> Solution | Refusal:
+        try:
+            return _FLOAT_SOLUTIONS[name](solution.scene, f"{name} engine for the plan",
+                                          solution.target)
+        except (FloatRangeError, np.linalg.LinAlgError) as exc:
+            return Refusal(name, f"cannot hold the scene in float64: {exc}")
+    return build
+
+
+_HOSTS: dict[str, Callable[[Solution], Any]] = {
+    "exact": _exact_host,
+    "mp": _exact_host,
+    "certified": _certified_host,
+    "ball": _certified_host,
+    **{name: _numeric_host(name) for name in _FLOAT_SOLUTIONS},
+}
+#: Engines whose evaluator is the host's escalation (arbitrary precision) rather than its
+#: float64 pass.
+_ESCALATIONS = ("mp", "ball")
+
+
+def host(solution: Solution, name: str) -> Any:
+    """The solution object that evaluates engine ``name`` for ``solution``'s scene (or a
+    Refusal). Float64 hosts are kept by the caller's evaluator cache."""
+    return _HOSTS[name](solution)
+
+
+def _builder(name: str) -> Callable[[Solution], Evaluator | Refusal]:
+    def build(solution: Solution) -> Evaluator | Refusal:
+        found = host(solution, name)
+        if isinstance(found, Refusal):
+            return found
+        return _escalation_of(found) if name in _ESCALATIONS else _float_of(found)
+    return build
+
+
+def solution_for(name: str, scene: Any, *, reason: str, target: float) -> Solution | Refusal:
+    """A new solution whose own engine is ``name``, or the engine's refusal found while
+    building (raises what building raises: FloatRangeError, LinAlgError)."""
+    if name in ("exact", "mp"):
+        return ExactSolution(exact_motion(scene), reason=reason, target=target)
+    if name in ("certified", "ball"):
+        poles = certified_poles(scene)
+        if poles is None:
+            raise FloatRangeError("the certified route needs rational entries and a first-order "
+                                  "form")
+        return CertifiedSolution(scene, poles, reason=reason, target=target)
+    return _FLOAT_SOLUTIONS[name](scene, reason, target)
+
+
+for _name in _HOSTS:
+    register_engine(_name, _builder(_name),
+                    (lambda s, _n=_name: host(s, _n)) if _name in _ESCALATIONS else None)
