@@ -285,13 +285,17 @@ class Solution(ABC):
             own[self._escalation_engine] = self._escalate
         return own
 
+    #: Engines found unable to meet the target on this scene (their own bound missed it at
+    #: the probe times when the solution was made): later plans leave them out.
+    excluded: frozenset[str] = frozenset()
+
     def _plan(self, request: Request) -> Plan:
         own = self._own_engines()
         if not self._planned:
             return Plan(request, self.method, tuple(own), costs={name: Cost(0.0, 0.0) for name in own},
                         reason=self.reason)
         return plan_request(scene_facts(self.scene), request, method=self.requested,
-                            built=own, available=set(own) | set(BUILDERS))
+                            built=own, available=(set(own) | set(BUILDERS)) - self.excluded)
 
     def _evaluator(self, name: str) -> Evaluator | Refusal:
         """The evaluator of engine ``name`` for this scene, built once per solution."""
@@ -546,7 +550,7 @@ def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times,
         huge = np.isfinite(values) & (np.abs(values) > np.finfo(float).max / 4)
     if huge.any():
         column = int(np.flatnonzero(huge.any(axis=0))[0])
-        raise OverflowError(f"x(t) at t = {times.hi[column]!r} is beyond the float64 range; "
+        raise OverflowError(f"x(t) at t = {float(times.hi[column])!r} is beyond the float64 range; "
                             "evaluate(..., dps=30) gives it")
     worst = report.relative_bounds
     missed = np.flatnonzero(~(worst <= max(target, limits().refusal_bound)))
@@ -555,7 +559,7 @@ def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times,
         tried = ", ".join(report.plan.chain) or "none"
         bound = "no bound" if not np.isfinite(worst[column]) else f"a bound of {worst[column]:.1e}"
         raise LimitError(
-            f"x(t) at t = {times.hi[column]!r}: the engines of the plan ({tried}) give "
+            f"x(t) at t = {float(times.hi[column])!r}: the engines of the plan ({tried}) give "
             f"{bound} of the solution's scale, above max(target, Limits.refusal_bound) = "
             f"{max(target, limits().refusal_bound):g}"
             + (f" ({missed.size} times in all)" if missed.size > 1 else "")

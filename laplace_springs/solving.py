@@ -90,23 +90,34 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
                          + ", ".join(symbolic_entries(scene)) + "; use method='exact'")
     available = set(BUILDERS)
     refusals: list[Refusal] = []
+    probed: list[tuple[float, Solution, Plan]] = []  # engines whose own bound missed
     while True:
         chosen = plan(facts, DEFAULT_REQUEST, method=method, available=available)
         if not chosen.chain:
+            if probed:  # every engine misses the target at the probe: the tightest serves
+                _, solution, chosen = min(probed, key=lambda entry: entry[0])
+                return _finish(solution, chosen, method, refusals)
             raise _no_engine(chosen, method, refusals, facts)
         name = chosen.chain[0]
         solution = _build(name, scene, chosen, target)
         if isinstance(solution, Refusal):
             refusals.append(solution)
         elif method == "auto" and engine(name).tier == 0 and name != "exact" \
-                and _probe_misses(solution, target):
-            refusals.append(Refusal(name, "its own bound misses the target at Limits.probe_times"))
+                and (worst := _probe(solution)) > target:
+            refusals.append(Refusal(name, f"its own bound ({worst:.1e} of the scale) misses "
+                                    "the target at Limits.probe_times"))
+            probed.append((worst, solution, chosen))
         else:
-            solution.requested = method
-            declined = "".join(f"; {r}" for r in refusals)
-            solution.reason = chosen.reason + declined + _warnings(solution)
-            return solution
+            return _finish(solution, chosen, method, refusals)
         available.discard(name)
+
+
+def _finish(solution: Solution, chosen: Plan, method: str, refusals: list[Refusal]) -> Solution:
+    solution.requested = method
+    solution.excluded = frozenset(r.engine for r in refusals if r.engine != solution.method)
+    others = [r for r in refusals if r.engine != solution.method]
+    solution.reason = chosen.reason + "".join(f"; {r}" for r in others) + _warnings(solution)
+    return solution
 
 
 def _build(name: str, scene: Scene, chosen: Plan, target: float) -> Solution | Refusal:
@@ -117,12 +128,12 @@ def _build(name: str, scene: Scene, chosen: Plan, target: float) -> Solution | R
         return Refusal(name, f"cannot hold the scene in float64: {exc}")
 
 
-def _probe_misses(solution: Solution, target: float) -> bool:
-    """Whether the engine's own bound misses the target at Limits.probe_times (a scene
-    whose scales float64 cannot separate: the next engine of the plan takes it)."""
+def _probe(solution: Solution) -> float:
+    """The engine's own largest bound at Limits.probe_times, relative to the scale (a scene
+    whose scales float64 cannot separate: the next engine of the plan may do better)."""
     times = as_times(np.array(limits().probe_times))
     values, bounds = solution._float(times, 0)
-    return bool(np.any(relative_bounds(values, bounds, solution._floor(0)) > target))
+    return float(np.max(relative_bounds(values, bounds, solution._floor(0)), initial=0.0))
 
 
 def _warnings(solution: Solution) -> str:

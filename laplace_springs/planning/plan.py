@@ -90,7 +90,8 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
     request and is not expected to miss the target (or the cheapest that serves, when
     none is expected to meet it); engines with a longer horizon follow for the times
     beyond it; then, for times whose bound misses the target, every engine that reaches a
-    tighter bound than the primary: the refined engine first, then by cost.
+    tighter bound than the primary (the refined engine first, then by cost), then the
+    others (a primary that misses badly is recovered by any engine that does better).
 
     Parameters
     ----------
@@ -168,9 +169,9 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
     beyond = sorted((e for e in rest if e.tier == primary.tier
                      and horizons[primary.name] < request.t_max < math.inf
                      and horizons[e.name] > horizons[primary.name]), key=key)
-    escalation = sorted((e for e in rest if e not in beyond and e.precision < primary.precision),
-                        key=lambda e: (e.tier != 1, e.expectation(facts, request) is not None,
-                                       key(e)))
+    escalation = sorted((e for e in rest if e not in beyond),
+                        key=lambda e: (e.tier != 1, e.precision >= primary.precision,
+                                       e.expectation(facts, request) is not None, key(e)))
     return tuple(e.name for e in [primary, *beyond, *escalation])
 
 
