@@ -42,6 +42,7 @@ from typing import Literal, TypeAlias
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from ..kernels.first_order import SYMPY, first_order
 from ..model.errors import SceneError
 from ..model.numbers import TIME, to_exact
 from .algebraic import AlgebraicRoot
@@ -151,8 +152,8 @@ def first_order_matrix(A: MatrixLike, B: MatrixLike | None = None) -> sp.Immutab
     damping = sp.zeros(n, n) if B is None else _as_matrix(B, "B")
     if damping.shape != stiffness.shape:
         raise SceneError(f"B must have the shape of A, {stiffness.shape}; got {damping.shape}")
-    top = sp.Matrix.hstack(sp.zeros(n, n), sp.eye(n))
-    return sp.ImmutableMatrix(sp.Matrix.vstack(top, sp.Matrix.hstack(-stiffness, -damping)))
+    Z, _, _ = first_order(sp.eye(n), damping, stiffness, [0] * n, [0] * n, SYMPY, massless=())
+    return sp.ImmutableMatrix(Z)
 
 
 # ---------------------------------------------------------------------------

@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 import sympy as sp
 
+from ..kernels.first_order import massless_nodes
 from .errors import SceneError
 
 if TYPE_CHECKING:
@@ -96,8 +97,7 @@ def _matrix(rows: int, cols: int, entries: Mapping[tuple[int, int], sp.Expr], li
 
 def _massless(scene: SceneMatrices) -> list[int]:
     """Coordinates whose row and column of M are zero."""
-    touched = {index for key in scene.M.todok() for index in key}
-    return [i for i in range(scene.n) if i not in touched]
+    return massless_nodes(scene.M.todok(), scene.n)
 
 
 def _descriptor_error(scene: SceneMatrices, detail: str) -> SceneError:

@@ -24,6 +24,8 @@ import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat, fmpz_mat
 
+from ..kernels.first_order import SYMPY, first_order
+from ..kernels.first_order import massless_nodes as kernel_massless
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
@@ -190,9 +192,7 @@ def scene_arrays(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
 def massless_nodes(scene: Scene) -> list[int]:
     """Indices whose row and column of M are zero (massless nodes)."""
     exact = rational_entries(scene, "M")
-    touched = {index for key in (scene_entries(scene, "M") if exact is None else exact)
-               for index in key}
-    return [i for i in range(scene.n) if i not in touched]
+    return kernel_massless(scene_entries(scene, "M") if exact is None else exact, scene.n)
 
 
 def is_rational(scene: Scene) -> bool:
@@ -231,30 +231,13 @@ def first_order_system(scene: Scene) -> tuple[sp.Matrix, sp.Matrix, list[int]]:
     [ 0,    1],
     [-4, -1/2]]), Matrix([[1, 3]]), [0])
     """
-    M, C, K = (sp.Matrix(m) for m in (scene.M, scene.C, scene.K))
-    n = scene.n
     z = massless_nodes(scene)
-    m = [i for i in range(n) if i not in z]
-    everything = list(range(n))
     try:
-        Mmm_inv = M.extract(m, m).inv() if m else sp.zeros(0, 0)
-        Czz_inv = C.extract(z, z).inv() if z else sp.zeros(0, 0)
+        Z, y0, m = first_order(*(sp.Matrix(a) for a in (scene.M, scene.C, scene.K)),
+                               list(scene.x0), list(scene.v0), SYMPY, massless=z)
     except ValueError:  # SymPy: "Matrix det == 0; not invertible."
         raise SceneError("the first-order form needs an invertible mass block and, for "
                          f"massless nodes {z}, an invertible dashpot block on them") from None
-    P = -Czz_inv * K.extract(z, everything)          # x_z' = P x + Q v_m
-    Q = -Czz_inv * C.extract(z, m)
-    Cmz = C.extract(m, z)
-    Avel = -Mmm_inv * (K.extract(m, everything) + Cmz * P)   # v_m' = Avel x + Bvel v_m
-    Bvel = -Mmm_inv * (C.extract(m, m) + Cmz * Q)
-    size = n + len(m)
-    Z = sp.zeros(size, size)
-    for row, i in enumerate(m):
-        Z[i, n + row] = 1
-    for row, i in enumerate(z):
-        Z[i, :n], Z[i, n:] = P[row, :], Q[row, :]
-    Z[n:, :n], Z[n:, n:] = Avel, Bvel
-    y0 = sp.Matrix([*scene.x0, *[scene.v0[i] for i in m]])
     return Z, y0, m
 
 

@@ -49,6 +49,7 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
+from ..kernels.first_order import FLOAT, first_order, massless_nodes
 from ..limits import limits
 from ..model.errors import FloatRangeError
 from ..model.scene import Scene
@@ -83,10 +84,6 @@ class _Reduced:
 def _norm(A: np.ndarray) -> float:
     """sqrt(‖A‖₁)·sqrt(‖A‖∞): an upper bound on ‖A‖₂ within √n, without an SVD or overflow."""
     return float(math.sqrt(np.linalg.norm(A, 1)) * math.sqrt(np.linalg.norm(A, np.inf)))
-
-
-def _float_massless(M: np.ndarray) -> list[int]:
-    return [i for i in range(len(M)) if not M[i].any() and not M[:, i].any()]
 
 
 def _reduce(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray, v0: np.ndarray) -> _Reduced:
@@ -127,16 +124,8 @@ def _massless_system(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray
                          f"block on them); nodes {z} are not")
     if m and np.linalg.cond(Mmm) > limits().max_mass_condition:
         raise FloatRangeError("the modal route needs an invertible mass matrix on the massive nodes")
-    P = -np.linalg.solve(Czz, K[z, :])
-    Q = -np.linalg.solve(Czz, C[np.ix_(z, m)])
-    Cmz = C[np.ix_(m, z)]
-    Z = np.zeros((n + len(m), n + len(m)))
-    Z[m, n + np.arange(len(m))] = 1
-    Z[z, :n], Z[z, n:] = P, Q
-    if m:
-        Z[n:, :n] = -np.linalg.solve(Mmm, K[m, :] + Cmz @ P)
-        Z[n:, n:] = -np.linalg.solve(Mmm, C[np.ix_(m, m)] + Cmz @ Q)
-    return Z, np.concatenate([x0, v0[m]])
+    Z, y0, _ = first_order(M, C, K, x0, v0, FLOAT, massless=z)
+    return Z, y0
 
 
 def _scaling(reduced: _Reduced) -> float:
@@ -598,7 +587,7 @@ def _decompose_arrays(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarra
     by a random matrix of 2-norm ε‖Z‖ first (the backward error of forming and solving it).
     """
     size = max(float(np.max(np.abs(x0), initial=0.0)), float(np.max(np.abs(v0), initial=0.0)))
-    z = _float_massless(M)
+    z = massless_nodes(zip(*np.nonzero(M)), len(M))
     undamped = _is_undamped_symmetric(M, C, K)
     if z:  # the state is [x; massive velocities]; time scaled by ‖Z‖ only
         Z, y0 = _massless_system(M, C, K, x0, v0, z)
