@@ -1,13 +1,14 @@
 """An independent high-precision route: the matrix exponential of the first-order system.
 
 Nothing here inverts a transform, finds a root or uses an eigen-decomposition: x(t)
-comes from the matrix exponential of the exact first-order system y' = Z y
-(:func:`laplace_springs.numeric.first_order.first_order_system`, Z = [[0, I],
-[-M⁻¹K, -M⁻¹C]] with massless nodes reduced), by mpmath's ``expm`` or python-flint's
-certified arb ``exp``, at a chosen precision. Tests and the benchmark compare every
-route with it: the exact route (partial fractions), the modal route (float64
-eigenvectors) and the certified route (roots of the characteristic polynomial) share
-no algorithm with it.
+comes from the matrix exponential of the exact first-order system y' = Z y, by mpmath's
+``expm`` or python-flint's certified arb ``exp``, at a chosen precision. Tests and the
+benchmark compare every route with it: the exact route (partial fractions), the modal
+route (float64 eigenvectors) and the certified route (roots of the characteristic
+polynomial) share no algorithm with it, and it shares no code with them: its first-order
+matrix is built here, column by column, by applying the equations of motion to each
+unit state (:func:`reference_system`), not by the package's block formulas
+(:mod:`laplace_springs.kernels.first_order`).
 """
 
 from __future__ import annotations
@@ -21,10 +22,48 @@ from flint import arb, arb_mat, ctx, fmpq, fmpq_mat, fmpz
 
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
-from ..numeric.first_order import first_order_system
 
 __all__ = ["reference_motion", "reference_motion_arb", "reference_forced_motion",
-           "relative_error", "first_order_matrix_mp"]
+           "relative_error", "first_order_matrix_mp", "reference_system"]
+
+
+def reference_system(scene) -> tuple[sp.Matrix, sp.Matrix]:
+    """Exact Z and y(0) with y' = Z y, whose first n entries are x, built independently.
+
+    The state is y = (x, v) with the velocities v of the massive coordinates (those with
+    a nonzero row or column of M). Column k of Z is the derivative of the k-th unit state:
+    x' is v on the massive coordinates; on the massless ones it solves their rows of
+    C x' + K x = 0; then M v' = −(C x' + K x) on the massive rows. Each step is a linear
+    solve of the scene's own matrices (SymPy, exact).
+
+    >>> from laplace_springs import Scene
+    >>> Z, y0 = reference_system(Scene.from_matrices(M=[[2]], C=[[1]], K=[[8]], x0=[1], v0=[3]))
+    >>> Z.tolist(), y0.T.tolist()
+    ([[0, 1], [-4, -1/2]], [[1, 3]])
+    """
+    M, C, K = (sp.Matrix(m) for m in (scene.M, scene.C, scene.K))
+    n = scene.n
+    massive = [i for i in range(n) if any(M[i, j] != 0 or M[j, i] != 0 for j in range(n))]
+    light = [i for i in range(n) if i not in massive]
+    size = n + len(massive)
+    columns = []
+    for k in range(size):
+        state = [1 if j == k else 0 for j in range(size)]
+        x = sp.Matrix(state[:n])
+        xdot = sp.zeros(n, 1)
+        for slot, i in enumerate(massive):
+            xdot[i] = state[n + slot]
+        if light:  # rows of the massless nodes: C x' + K x = 0, unknowns x'_light
+            rhs = -(K * x + C * xdot).extract(light, [0])
+            xdot_light = C.extract(light, light).LUsolve(rhs)
+            for slot, i in enumerate(light):
+                xdot[i] = xdot_light[slot]
+        force = -(K * x + C * xdot).extract(massive, [0])
+        vdot = M.extract(massive, massive).LUsolve(force) if massive else sp.zeros(0, 1)
+        columns.append(list(xdot) + list(vdot))
+    Z = sp.Matrix(size, size, lambda i, j: columns[j][i])
+    y0 = sp.Matrix([*scene.x0, *(scene.v0[i] for i in massive)])
+    return Z, y0
 
 
 def _mp_matrix(matrix: sp.MatrixBase) -> mpmath.matrix:
@@ -36,8 +75,8 @@ def _mp_matrix(matrix: sp.MatrixBase) -> mpmath.matrix:
 
 
 def first_order_matrix_mp(scene) -> mpmath.matrix:
-    """Z of :func:`first_order_system` at the current mpmath precision (numeric scenes)."""
-    return _mp_matrix(first_order_system(scene)[0])
+    """Z of :func:`reference_system` at the current mpmath precision (numeric scenes)."""
+    return _mp_matrix(reference_system(scene)[0])
 
 
 def _expm_motion(Z: sp.MatrixBase, y0: sp.MatrixBase, n: int, times: Sequence,
@@ -60,7 +99,7 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
     ----------
     scene : Scene
         A scene with numeric entries and invertible M, or massless nodes held by
-        dashpots (see :func:`first_order_system`).
+        dashpots (see :func:`reference_system`).
     times : sequence
         Times (floats by their exact binary value; strings as exact decimals).
     dps : int
@@ -79,7 +118,7 @@ def reference_motion(scene, times: Sequence, dps: int = 40) -> np.ndarray:
     >>> mpmath.nstr(x[0, 0], 15)
     '0.54030230586814'
     """
-    Z, y0, _ = first_order_system(scene)
+    Z, y0 = reference_system(scene)
     return _expm_motion(Z, y0, scene.n, times, dps)
 
 
@@ -163,7 +202,7 @@ def _arb_to_mpf(value) -> mpmath.mpf:
 def _arb_motion(scene, times: Sequence, digits: int) -> tuple[list[list[arb]], float]:
     """Balls of x(t) (one row per coordinate) and the largest radius relative to max |x|,
     at the current precision."""
-    Z, y0, _ = first_order_system(scene)
+    Z, y0 = reference_system(scene)
     n = scene.n
     Z, y0 = _arb_matrix(Z, digits + 20), _arb_matrix(y0, digits + 20)
     columns = [(Z * _arb_time(tv)).exp() * y0 for tv in times]
@@ -189,7 +228,7 @@ def reference_motion_arb(scene, times: Sequence, digits: int = 60,
     ----------
     scene : Scene
         A numeric scene with invertible M, or massless nodes held by dashpots (see
-        :func:`first_order_system`); rational entries are used exactly.
+        :func:`reference_system`); rational entries are used exactly.
     times : sequence
         Times: floats and mpmath numbers are read exactly (their binary value), strings
         as decimal numbers.
@@ -249,7 +288,7 @@ def reference_forced_motion(scene, S, w0, G, times: Sequence, dps: int = 40) -> 
     ('0.318816380805', '0.318816380805')
     """
     n = scene.n
-    Z, y0, _ = first_order_system(scene)
+    Z, y0 = reference_system(scene)
     if Z.rows != 2 * n:
         raise SceneError("reference_forced_motion needs an invertible M (no massless nodes)")
     S, G, w0 = (_exact(rows, name) for rows, name in ((S, "S"), (G, "G"), ([w0], "w0")))
