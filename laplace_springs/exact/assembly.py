@@ -36,6 +36,7 @@ from ..model.errors import InversionError
 from ..model.forcing import InputTransform, input_transform
 from ..model.periodic import common_period
 from ..model.scene import Scene
+from ..model.switching import sorted_delays
 from ..model.symbols import TIME, lam
 from .jumps import InitialJump, initial_jump
 from .named import definitions, expand_names
@@ -357,7 +358,18 @@ class ExactMotion:
         for _, _, term in self.root_sums:
             condition = term.condition
             found.setdefault((condition.factor, condition.cofactor), condition)
-        return tuple(found.values()) + self.generic_conditions
+        return tuple(found.values()) + self.generic_conditions + self.input_conditions
+
+    @property
+    def input_conditions(self) -> tuple:
+        """Where the inputs' transforms hold: a symbolic switching time of unknown sign is
+        a delay where it is ≥ 0 (``b >= 0`` for ``Heaviside(t - b)``, b a plain Symbol);
+        see :mod:`laplace_springs.model.switching`."""
+        if self.scene.forcing is None:
+            return ()
+        found = {(c.expr, c.relation): c for j, f in enumerate(self.scene.forcing)
+                 for c in input_transform(f, f"forcing[{j}]", lam).conditions}
+        return tuple(found.values())
 
     @cached_property
     def generic_conditions(self) -> tuple[GenericCondition, ...]:
@@ -504,7 +516,7 @@ def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
     """
     assert scene.forcing is not None
     inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
-    delays = sorted({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero}, key=float)
+    delays = sorted_delays({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero})
     return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
 
 

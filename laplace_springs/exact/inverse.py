@@ -11,11 +11,20 @@ reduced modulo the period, exact and without an infinite sum
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from ..model.errors import InversionError
-from .partial_fractions import PartialFractions, decompose, partial_fractions, transform_of
+from .laplace import entrywise
+from .partial_fractions import (
+    PartialFractions,
+    decompose,
+    denominator_conditions,
+    partial_fractions,
+    transform_of,
+)
 from .real_terms import Term, group_terms, solution_terms, terms_expr
 from .shifts import (
     DelaySplit,
@@ -155,6 +164,11 @@ class DelayedInverse:
     windows : tuple
         The transient as triples (start, end, S_i): the real terms S_i(t) apply on
         [start, end) (end None: to infinity).
+    conditions : tuple
+        Where the inverse holds: symbolic delays of unknown sign taken as delays
+        (``a >= 0``, :class:`~laplace_springs.model.switching.SwitchCondition`), and the
+        genericity conditions of the partial fractions
+        (:class:`~laplace_springs.exact.partial_fractions.GenericCondition`).
     """
 
     pieces: tuple[DelayedPiece, ...]
@@ -162,6 +176,7 @@ class DelayedInverse:
     sign: int = 1
     compact: bool = False
     windows: tuple[tuple[sp.Expr, sp.Expr | None, tuple[Term, ...]], ...] = ()
+    conditions: tuple = ()
 
     def reduced_time(self, t: sp.Expr, delay: sp.Expr = sp.S.Zero) -> sp.Expr:
         """(t - τ) mod P = t - τ - P floor((t - τ)/P), in [0, P)."""
@@ -268,13 +283,14 @@ def _is_compact(pieces: list[DelayedPiece], period: sp.Expr, ordered: bool) -> b
     return True
 
 
-def _periodic(pieces: list[DelayedPiece], period: sp.Expr, sign: int) -> DelayedInverse:
+def _periodic(pieces: list[DelayedPiece], period: sp.Expr, sign: int,
+              conditions: tuple = ()) -> DelayedInverse:
     if any(piece.inverse.impulses for piece in pieces):
         raise InversionError("a periodic transform with an impulse part (R(s) not proper) is a "
                              "train of impulses: not a function that evaluates at any t")
     ordered = order_delays([piece.delay for piece in pieces]) == list(range(len(pieces)))
     if _is_compact(pieces, period, ordered):
-        return DelayedInverse(tuple(pieces), period, sign, compact=True)
+        return DelayedInverse(tuple(pieces), period, sign, compact=True, conditions=conditions)
     pieces = [DelayedPiece(piece.delay, piece.inverse, tuple(
         phi for term in piece.inverse.terms for phi in difference_solution(term, period, sign)))
         for piece in pieces]
@@ -291,7 +307,8 @@ def _periodic(pieces: list[DelayedPiece], period: sp.Expr, sign: int) -> Delayed
                 windows.append((piece.delay, end, tuple(terms)))
     else:
         windows = [(piece.delay, None, tuple(combine_terms(row))) for piece, row in zip(pieces, shifted)]
-    return DelayedInverse(tuple(pieces), period, sign, compact=False, windows=tuple(windows))
+    return DelayedInverse(tuple(pieces), period, sign, compact=False, windows=tuple(windows),
+                          conditions=conditions)
 
 
 def delayed_inverse(F: sp.Expr | str, s: sp.Symbol, *, parameters: object = None) -> DelayedInverse:
@@ -319,14 +336,16 @@ def delayed_inverse(F: sp.Expr | str, s: sp.Symbol, *, parameters: object = None
     split = split_delays(F, s)
     if split is None:
         inverse = inverse_laplace_terms(F, s)
-        return DelayedInverse((DelayedPiece(sp.S.Zero, inverse),), None)
+        return DelayedInverse((DelayedPiece(sp.S.Zero, inverse),), None, conditions=inverse.conditions)
     pieces = _pieces(split)
+    conditions = split.conditions + denominator_conditions(split.denominator)
     if split.period is None:
-        return DelayedInverse(tuple(pieces), None)
-    return _periodic(pieces, split.period, split.sign)
+        return DelayedInverse(tuple(pieces), None, conditions=conditions)
+    return _periodic(pieces, split.period, split.sign, conditions)
 
 
-def inverse_laplace(F: sp.Expr | str, s: sp.Symbol, t: sp.Symbol, *, parameters: object = None) -> sp.Expr:
+def inverse_laplace(F: Any, s: sp.Symbol, t: sp.Symbol, *, parameters: object = None,
+                    conditions: bool = False) -> Any:
     """Inverse Laplace transform in real form: rational, delayed and periodic transforms.
 
     For a rational F the result is a sum of terms t^k e^{αt}(a cos βt + b sin βt): complex-conjugate
@@ -367,13 +386,18 @@ def inverse_laplace(F: sp.Expr | str, s: sp.Symbol, t: sp.Symbol, *, parameters:
         Transform variable and time.
     parameters : sequence or mapping, optional
         Names text ``F`` may use as symbols (positive by default), e.g. ``["a"]``.
+    conditions : bool, optional
+        Also return where the inverse holds: a symbolic delay e^{-as} whose sign the
+        assumptions do not decide (a plain or real Symbol) is a delay where a ≥ 0
+        (:class:`~laplace_springs.model.switching.SwitchCondition`), and symbolic
+        partial fractions need their genericity conditions (``a**2 - 4 != 0``).
 
     Returns
     -------
-    sympy.Expr
+    sympy.Expr or sympy.Matrix, or (f, conditions) with ``conditions=True``
         f(t) for t > 0. An improper F (degree of numerator ≥ degree of denominator)
         also yields its impulse part Σ c_j DiracDelta(t, j), which vanishes for t > 0
-        (DiracDelta(t - τ, j) for a delayed part).
+        (DiracDelta(t - τ, j) for a delayed part). A Matrix is inverted entry by entry.
 
     Raises
     ------
@@ -418,8 +442,32 @@ def inverse_laplace(F: sp.Expr | str, s: sp.Symbol, t: sp.Symbol, *, parameters:
     t - floor(t)
     >>> inverse_laplace(1 / ((s + 1) * (1 - sp.exp(-s))), s, t)
     exp(-t + floor(t))/(1 - exp(-1)) - exp(-t)/(-1 + E)
+    >>> a = sp.Symbol("a")                      # a plain Symbol: the delay needs a >= 0
+    >>> f, where = inverse_laplace(sp.exp(-a*s) / s, s, t, conditions=True)
+    >>> f, [c.meaning for c in where]
+    (Heaviside(-a + t), ['a >= 0 (the delay exp(-(a)*s))'])
+    >>> inverse_laplace(sp.Matrix([1 / s, 1 / (s + 1)]), s, t)
+    Matrix([
+    [      1],
+    [exp(-t)]])
     """
+    if isinstance(F, sp.MatrixBase):
+        return entrywise(F, lambda entry: inverse_laplace(entry, s, t, parameters=parameters,
+                                                           conditions=True), conditions)
     F = transform_of(F, s, parameters)
+    _refuse_unknowns(F, s)
     if split_delays(F, s) is None:
-        return inverse_laplace_terms(F, s).as_expr(t)
-    return delayed_inverse(F, s).as_expr(t)
+        inverse = inverse_laplace_terms(F, s)
+        return (inverse.as_expr(t), inverse.conditions) if conditions else inverse.as_expr(t)
+    delayed = delayed_inverse(F, s)
+    return (delayed.as_expr(t), delayed.conditions) if conditions else delayed.as_expr(t)
+
+
+def _refuse_unknowns(F: sp.Expr, s: sp.Symbol) -> None:
+    """An InversionError naming an unknown transform or function of s in F."""
+    unknown = F.atoms(AppliedUndef, sp.LaplaceTransform, sp.Derivative, sp.Integral, sp.Subs)
+    inside = [u for u in unknown if u.has(s)]
+    if inside:
+        first = sorted(inside, key=sp.default_sort_key)[0]
+        raise InversionError(f"{F} is not a rational function of {s} and exponentials "
+                             f"e^(-tau*{s}): {first} is an unknown function of {s}, which is not inverted")

@@ -45,6 +45,7 @@ import sympy as sp
 
 from ..limits import limits
 from ..model.errors import InversionError
+from ..model.switching import SwitchCondition
 from .real_terms import Term
 
 __all__ = ["DelaySplit", "split_delays", "shift_terms", "combine_terms", "difference_solution",
@@ -61,6 +62,9 @@ class DelaySplit:
     :func:`laplace_springs.exact.partial_fractions.decompose`; the delays are distinct
     and ≥ 0. ``period`` is None when F has no periodic factor; ``sign`` is -1 for the
     factor 1 + e^{-Ts} (antiperiodic sums Σ (-1)^j g(t - jT), period 2T), else +1.
+    ``conditions``: a symbolic delay or period of unknown sign (a plain or real Symbol)
+    is taken as one, where it is ≥ 0 (> 0 for the period); see
+    :class:`~laplace_springs.model.switching.SwitchCondition`.
     """
 
     delays: tuple[sp.Expr, ...]
@@ -68,6 +72,7 @@ class DelaySplit:
     denominator: sp.Poly
     period: sp.Expr | None
     sign: int = 1
+    conditions: tuple[SwitchCondition, ...] = ()
 
 
 def _exact(F: sp.Expr) -> sp.Expr:
@@ -102,12 +107,13 @@ def _delay_of(atom: sp.Expr, s: sp.Symbol, F: sp.Expr) -> tuple[sp.Expr, sp.Expr
 
 
 def _positive_unit(unit: sp.Expr) -> sp.Expr:
+    """``unit`` or ``-unit``: the positive one, or for an unknown sign the one written
+    without a leading minus (the delays' conditions then say it must be ≥ 0)."""
     if unit.is_positive:
         return unit
-    if unit.is_negative:
+    if unit.is_negative or unit.could_extract_minus_sign():
         return -unit
-    raise InversionError(f"cannot tell the sign of the delay {unit} (declare its parameters "
-                         "positive, the default for parameters=[...])")
+    return unit
 
 
 def _units(delays: Iterable[sp.Expr]) -> list[tuple[sp.Expr, list[sp.Expr]]]:
@@ -305,12 +311,30 @@ def split_delays(F: sp.Expr, s: sp.Symbol) -> DelaySplit | None:
     classes: dict[sp.Expr, sp.Expr] = {}
     for monomial, coefficient in N.terms():
         tau = sp.Add(*((e - k) * unit for e, k, unit in zip(monomial[1:], shifts, units)))
-        if tau.is_negative or (tau != 0 and not tau.is_nonnegative):
-            which = "has no causal inverse" if tau.is_negative else "may be an advance (sign unknown)"
-            raise InversionError(f"a time advance e^(+tau*{s}) with tau = {-tau} in {F} {which}: "
-                                 f"only delays e^(-tau*{s}), tau >= 0, are inverted")
+        if tau.is_negative:
+            raise InversionError(f"a time advance e^(+tau*{s}) with tau = {-tau} in {F} has no "
+                                 f"causal inverse: only delays e^(-tau*{s}), tau >= 0, are inverted")
         classes[tau] = classes.get(tau, sp.S.Zero) + coefficient * s ** monomial[0]
-    return _field_split(classes, in_s.as_expr(), s, period, alternating, F)
+    conditions = _delay_conditions([tau for tau, N in classes.items() if N != 0], period, s, F)
+    return _field_split(classes, in_s.as_expr(), s, period, alternating, F, conditions)
+
+
+def _delay_conditions(delays: list[sp.Expr], period: sp.Expr | None, s: sp.Symbol,
+                      F: sp.Expr) -> tuple[SwitchCondition, ...]:
+    """τ ≥ 0 for each delay of unknown sign, P > 0 for a period of unknown sign; an
+    InversionError when two delays of unknown sign have opposite signs (one is an advance)."""
+    unknown = [tau for tau in delays if tau != 0 and tau.is_nonnegative is not True]
+    for i, first in enumerate(unknown):
+        for second in unknown[i + 1:]:
+            ratio = sp.cancel(first / second)
+            if ratio.is_Rational and ratio < 0:
+                raise InversionError(
+                    f"e^(-({first})*{s}) and e^(-({second})*{s}) in {F}: one of them is a time "
+                    f"advance whatever the sign of {second} (no causal inverse)")
+    conditions = [SwitchCondition(tau, ">=", f"the delay exp(-({tau})*{s})") for tau in unknown]
+    if period is not None and period.is_positive is not True:
+        conditions.append(SwitchCondition(period, ">", f"the period of 1 -+ exp(-({period})*{s})"))
+    return tuple(conditions)
 
 
 def _back(zs: Sequence[sp.Symbol], units: Sequence[sp.Expr], s: sp.Symbol) -> dict:
@@ -318,7 +342,8 @@ def _back(zs: Sequence[sp.Symbol], units: Sequence[sp.Expr], s: sp.Symbol) -> di
 
 
 def _field_split(classes: dict[sp.Expr, sp.Expr], denominator: sp.Expr, s: sp.Symbol,
-                 period: sp.Expr | None, sign: int, F: sp.Expr) -> DelaySplit:
+                 period: sp.Expr | None, sign: int, F: sp.Expr,
+                 conditions: tuple[SwitchCondition, ...] = ()) -> DelaySplit:
     """Polys over one exact field, delays in increasing order where that is decidable."""
     items = [(tau, numerator) for tau, numerator in classes.items() if numerator != 0]
     order = order_delays([tau for tau, _ in items])
@@ -333,7 +358,7 @@ def _field_split(classes: dict[sp.Expr, sp.Expr], denominator: sp.Expr, s: sp.Sy
         raise InversionError(f"inexact coefficients in {F}")
     field = domain.get_field()
     return DelaySplit(tuple(tau for tau, _ in items), tuple(N.set_domain(field) for N in Ns),
-                      D.set_domain(field), period, sign)
+                      D.set_domain(field), period, sign, conditions)
 
 
 def order_delays(delays: Sequence[sp.Expr]) -> list[int] | None:

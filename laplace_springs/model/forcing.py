@@ -24,11 +24,13 @@ from math import comb, factorial
 from typing import Any
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from .errors import SceneError
 from .numbers import ALLOWED_FUNCTIONS, parse_expression, to_exact
 from .periodic import PERIODIC_FUNCTIONS, Periodic, common_period
 from .sampled import Sampled
+from .switching import SwitchCondition, UndecidableOrder, latest_delay, sorted_delays, switch_conditions
 from .symbols import TIME, lam
 
 __all__ = [
@@ -91,6 +93,7 @@ def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | 
                                 allowed_functions={**ALLOWED_FUNCTIONS, **PERIODIC_FUNCTIONS})
     elif isinstance(value, sp.Basic):
         time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
+        _refuse_unknown_functions(value, entry)
         expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)
     else:
         expr = to_exact(value, entry)
@@ -191,6 +194,9 @@ class InputTransform:
     periodic : tuple of (sympy.Expr, sympy.Expr)
         ``(τ, R_τ(s))`` with 0 ≤ τ < T: the periodic inputs' transform is
         Σ_τ e^{-sτ} R_τ(s) / (1 - e^{-sT}) (one period over the periodic factor).
+    conditions : tuple of SwitchCondition
+        Where the parts hold: symbolic switching times of unknown sign are taken as
+        delays (``a >= 0``), see :mod:`laplace_springs.model.switching`.
 
     Examples
     --------
@@ -203,6 +209,7 @@ class InputTransform:
     variable: sp.Symbol
     period: sp.Expr | None = None
     periodic: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
+    conditions: tuple[SwitchCondition, ...] = ()
 
     def as_expr(self) -> sp.Expr:
         """The transform as one expression with explicit ``exp(-s τ)`` factors."""
@@ -281,11 +288,11 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     for atom in atoms:
         by_delay.setdefault(atom.delay, []).append(atom)
     parts = []
-    for tau in sorted(by_delay, key=float):
+    for tau in sorted_delays(by_delay):
         R = _real_rational(by_delay[tau], s)
         if R != 0:
             parts.append((tau, R))
-    return InputTransform(tuple(parts), s, period, periodic)
+    return InputTransform(tuple(parts), s, period, periodic, switch_conditions(f))
 
 
 def _periodic_parts(terms: list[sp.Expr], entry: str, s: sp.Symbol
@@ -309,14 +316,15 @@ def _periodic_parts(terms: list[sp.Expr], entry: str, s: sp.Symbol
         for tau, R in input_transform(c * wave.window, entry, s).parts:
             for k in range(int(P / wave.period)):
                 sums[tau + k * wave.period] = sums.get(tau + k * wave.period, sp.S.Zero) + R
-    parts = tuple((tau, sp.factor_terms(sp.cancel(sums[tau]))) for tau in sorted(sums, key=float)
+    parts = tuple((tau, sp.factor_terms(sp.cancel(sums[tau]))) for tau in sorted_delays(sums)
                   if sums[tau] != 0)
     return P, parts
 
 
 def _linear(arg: sp.Expr, factor: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """(c, d) with arg = c t + d, or _Unsupported."""
-    poly = sp.Poly(sp.expand(arg), t) if arg.has(t) else None
+    linear = arg.has(t) and sp.expand(arg).is_polynomial(t) is True
+    poly = sp.Poly(sp.expand(arg), t) if linear else None
     if poly is None or poly.degree() > 1 or any(c.has(t) for c in poly.all_coeffs()):
         raise _Unsupported(factor, f"the argument of {factor} is not linear in t")
     c, d = (poly.all_coeffs() + [0])[:2] if poly.degree() == 1 else (0, poly.all_coeffs()[0])
@@ -324,9 +332,11 @@ def _linear(arg: sp.Expr, factor: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 
 
 def _switch_time(c: sp.Expr, d: sp.Expr, factor: sp.Expr) -> sp.Expr:
-    tau = -d / c
-    if not tau.is_number or not c.is_number:
-        raise _Unsupported(factor, f"the switching time of {factor} must be a number")
+    """τ = -d/c, exact; a symbolic τ of unknown sign is a delay where τ ≥ 0 (the
+    input's conditions, :func:`~laplace_springs.model.switching.switch_conditions`)."""
+    tau = sp.expand(-d / c)
+    if tau.is_extended_real is False:
+        raise _Unsupported(factor, f"the switching time {tau} of {factor} is not real")
     return sp.nsimplify(tau) if tau.is_Float else tau
 
 
@@ -360,7 +370,11 @@ def _term_atoms(term: sp.Expr) -> list[_Atom]:
     atoms = []
     for switch in itertools.product(*switches):
         sign = sp.Mul(*(sgn for sgn, _ in switch))
-        delay = max((d for _, d in switch), default=sp.S.Zero, key=float)
+        try:
+            delay = latest_delay([d for _, d in switch])
+        except UndecidableOrder as exc:
+            raise _Unsupported(term, f"{term} multiplies steps at {exc.first} and {exc.second}: "
+                               "their order is unknown (declare the parameters' signs)") from None
         for wave in itertools.product(*waves):
             weight = coefficient * sign * sp.Mul(*(w for w, _ in wave))
             rate = sp.Add(*(z for _, z in wave))
@@ -383,15 +397,35 @@ def _wave(factor: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
     return [(sp.exp(i * d) / (2 * i), i * c), (-sp.exp(-i * d) / (2 * i), -i * c)]
 
 
+def _real_form(expr: sp.Expr) -> sp.Expr:
+    """``expr`` expanded, each e^{a + ib} written e^a (cos b + i sin b) (an identity for
+    complex a, b: no re/im of symbols), and expanded again, so that I cancels."""
+    expr = sp.expand(expr)
+    waves = {e: sp.exp(a) * (sp.cos(b) + sp.I * sp.sin(b))
+             for e in expr.atoms(sp.exp) for a, b in [_split_imaginary(e.args[0])] if b != 0}
+    return sp.expand(expr.xreplace(waves)) if waves else expr
+
+
+def _split_imaginary(z: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(a, b) with z = a + i b as polynomials in I: a and b free of I, not re/im
+    (a plain Symbol q is complex, and q = q + i·0 here)."""
+    z = sp.expand(z)
+    b = z.coeff(sp.I)
+    return sp.expand(z - sp.I * b), b
+
+
 def _switch(factor: sp.Heaviside) -> list[tuple[int, sp.Expr]]:
     """Heaviside(c t + d) for t > 0 as alternatives (sign, delay): Σ sign·H(t - delay)."""
     c, d = _linear(factor.args[0], factor)
     if c == 0:
         raise _Unsupported(factor)
+    if c.is_positive is None and c.is_negative is None:
+        raise _Unsupported(factor, f"the sign of {c}, the coefficient of t in {factor}, is unknown "
+                           "(declare its parameters positive or negative)")
     tau = _switch_time(c, d, factor)
     if c.is_positive:
-        return [(1, max(tau, sp.S.Zero, key=float))]
-    if tau <= 0:
+        return [(1, sp.S.Zero if tau.is_nonpositive else tau)]
+    if tau.is_nonpositive:
         return []
     return [(1, sp.S.Zero), (-1, tau)]
 
@@ -403,13 +437,15 @@ def _delta(factor: sp.DiracDelta) -> tuple[sp.Expr, sp.Expr]:
     c, d = _linear(factor.args[0], factor)
     if c == 0:
         raise _Unsupported(factor)
+    if c.is_extended_real is False:
+        raise _Unsupported(factor, f"the scale {c} of {factor} is not real")
     return 1 / sp.Abs(c), _switch_time(c, d, factor)
 
 
 def _impulse_atoms(term: sp.Expr, coefficient: sp.Expr, delta: tuple[sp.Expr, sp.Expr]) -> list[_Atom]:
     """g(t)·δ(t - τ) = g(τ)·δ(t - τ): an atom of power -1 (transform e^{-sτ})."""
     weight, tau = delta
-    if tau < 0:
+    if tau.is_negative:
         return []
     others = sp.Mul(*(f for f in sp.Mul.make_args(term)
                       if f.has(t) and not isinstance(f, sp.DiracDelta)))
@@ -433,27 +469,46 @@ def _shifted(weight: sp.Expr, power: int, rate: sp.Expr, delay: sp.Expr) -> list
 def _real_rational(atoms: list[_Atom], s: sp.Symbol) -> sp.Expr:
     """Σ c k!/(s - z)^{k+1} (and c for impulses) as a real rational function of s.
 
-    Atoms come in conjugate pairs (the input is real); each pair (z, z̄) is written as
-    2 Re[c k! (s - z̄)^{k+1}] / ((s - Re z)² + (Im z)²)^{k+1}, so no ``I`` survives.
+    Rates and weights are polynomials in I with real-form coefficients (cos, sin of
+    the phases), so z = a + ib is split algebraically (:func:`_split_imaginary`), never
+    by re/im: a plain Symbol q is a complex number, and e^{qt} gives 1/(s - q) for every
+    q. A rate a + ib with b ≠ 0 is paired with its algebraic conjugate a - ib (the
+    input is a real-form expression, so both occur, with conjugate weights c, c̄), and
+    c k!/(s - z)^{k+1} + c̄ k!/(s - z̄)^{k+1} = k![c (s - z̄)^{k+1} + c̄ (s - z)^{k+1}]
+    / ((s - a)² + b²)^{k+1}, whose numerator expands free of I.
     """
-    grouped: dict[tuple[sp.Expr, int], sp.Expr] = {}
+    grouped: dict[tuple[sp.Expr, sp.Expr, int], sp.Expr] = {}
     for atom in atoms:
-        key = (sp.expand_complex(atom.rate), atom.power)
+        key = (*_split_imaginary(atom.rate), atom.power)
         grouped[key] = grouped.get(key, sp.S.Zero) + atom.coefficient
     total = sp.S.Zero
-    for (z, k), coefficient in grouped.items():
-        c = sp.expand_complex(coefficient)
-        if k < 0:
-            total += sp.re(c)
+    done: set[tuple[sp.Expr, sp.Expr, int]] = set()
+    for (a, b, k), coefficient in grouped.items():
+        if (a, b, k) in done:
             continue
-        a, b = z.as_real_imag()
+        if k < 0:
+            total += _real_form(coefficient)
+            continue
         if b == 0:
-            total += sp.re(c) * factorial(k) / (s - a) ** (k + 1)
-        elif not b.could_extract_minus_sign():
-            numerator = sp.Poly(sp.expand(c * factorial(k) * (s - a + sp.I * b) ** (k + 1)), s)
-            real = sp.Poly([2 * sp.expand_complex(q).as_real_imag()[0] for q in numerator.all_coeffs()], s)
-            total += real.as_expr() / ((s - a) ** 2 + b ** 2) ** (k + 1)
+            total += _real_form(coefficient) * factorial(k) / (s - a) ** (k + 1)
+            continue
+        partner = (a, sp.expand(-b), k)
+        done.add(partner)
+        numerator = _real_form(factorial(k) * (coefficient * (s - a + sp.I * b) ** (k + 1)
+                                               + grouped.get(partner, sp.S.Zero) * (s - a - sp.I * b) ** (k + 1)))
+        total += numerator / ((s - a) ** 2 + b ** 2) ** (k + 1)
     return sp.factor_terms(sp.cancel(sp.together(total)))
+
+
+def _refuse_unknown_functions(value: sp.Basic, entry: str) -> None:
+    """A SceneError for unknown functions, derivatives and integrals in a forcing entry."""
+    unknown = value.atoms(AppliedUndef, sp.Derivative, sp.Integral, sp.Subs)
+    if unknown:
+        first = sorted(unknown, key=sp.default_sort_key)[0]
+        raise SceneError(f"{entry}: {value} is not supported: {first} is an unknown function or its "
+                         "derivative, not a known input of t (equations of motion with unknown "
+                         "functions go to Scene.from_equations; ls.laplace transforms their "
+                         "derivatives)")
 
 
 def forcing_vector(values: Sequence[Any] | None, n: int,

@@ -331,8 +331,13 @@ def test_refusals_are_clear(F, match):
     assert time.perf_counter() - start < 2
 
 
-def test_a_delay_of_unknown_sign_is_refused():
-    with pytest.raises(ls.InversionError, match="sign of the delay"):
-        ls.inverse_laplace("exp(-a*s)/s", s, t, parameters={"a": "real"})
+def test_a_delay_of_unknown_sign_is_a_delay_where_it_is_nonnegative():
+    # issue 24: a real (or plain) symbol is taken as a delay, with the condition a >= 0
+    f, where = ls.inverse_laplace("exp(-a*s)/s", s, t, parameters={"a": "real"}, conditions=True)
+    a = sp.Symbol("a", real=True)
+    assert f == sp.Heaviside(t - a)
+    assert [c.as_relational() for c in where] == [a >= 0]
     with pytest.raises(ls.InversionError, match="time advance"):
         ls.inverse_laplace("exp(a*s)/s", s, t, parameters=["a"])
+    with pytest.raises(ls.InversionError, match="time advance whatever the sign"):
+        ls.inverse_laplace("(exp(a*s) + exp(-a*s))/s", s, t, parameters={"a": "real"})
