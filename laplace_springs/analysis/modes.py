@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
-from ..exact.algebraic import AlgebraicRoot, numeric_value
+from ..exact.algebraic import AlgebraicRoot
 from ..exact.resolvent import resolvent
 from ..limits import limits
 from ..model.errors import SceneError
@@ -25,6 +25,7 @@ from ..model.scene import Scene
 from ..model.symbols import lam
 from ..numeric.classical import float_eigenpairs
 from ..numeric.first_order import is_rational
+from ..numeric.mp_expr import numeric_value
 
 __all__ = ["Mode", "modes", "float_modes"]
 

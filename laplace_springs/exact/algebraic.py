@@ -20,7 +20,7 @@ import sympy as sp
 from sympy.core.evalf import prec_to_dps
 from sympy.polys.rootoftools import ComplexRootOf
 
-__all__ = ["AlgebraicRoot", "numeric_value", "root_enclosures"]
+__all__ = ["AlgebraicRoot", "root_enclosures"]
 
 
 @lru_cache(maxsize=512)
@@ -90,17 +90,3 @@ def _root_value(root: AlgebraicRoot, dps: int) -> sp.Expr | None:
             return None
         re, im = inside[0]
         return sp.Float(re, dps) + sp.I * sp.Float(im, dps) if im else sp.Float(re, dps)
-
-
-def numeric_value(expr: sp.Expr, dps: int) -> sp.Expr:
-    """``N(expr, dps)``, with each algebraic root in it evaluated once, not per occurrence.
-
-    SymPy's adaptive evalf asks every occurrence of a root (inside ``re``, ``im`` and
-    powers) for its value at several precisions; substituting the roots first makes
-    the evaluation of a closed form cost one flint call per root.
-    """
-    expr = sp.sympify(expr, strict=True)
-    roots = expr.atoms(AlgebraicRoot)
-    if roots:
-        expr = expr.xreplace({r: r.evalf(dps + 10) for r in roots})
-    return sp.N(expr, dps)

@@ -13,7 +13,7 @@ decade spread of masses gives 60 digits of cancellation, where SymPy's evalf on 
 rounded roots returns garbage). Evaluations at ``dps + g`` and ``dps + 2g`` digits
 must agree to ``dps`` digits relative to the value; g starts at 30 and doubles until
 they do. Anything unsupported (a free symbol, an unknown function) goes to
-:func:`laplace_springs.exact.algebraic.numeric_value`, SymPy's adaptive evalf.
+:func:`numeric_value`, SymPy's adaptive evalf.
 """
 
 from __future__ import annotations
@@ -22,12 +22,27 @@ import mpmath
 import sympy as sp
 from sympy.polys.rootoftools import ComplexRootOf
 
-from ..exact.algebraic import numeric_value
+from ..exact.algebraic import AlgebraicRoot
 
-__all__ = ["mp_value"]
+__all__ = ["mp_value", "numeric_value"]
 
 #: Guard digits are doubled while two evaluations disagree, up to this many.
 _MAX_GUARD = 4000
+
+
+
+def numeric_value(expr: sp.Expr, dps: int) -> sp.Expr:
+    """``N(expr, dps)``, with each algebraic root in it evaluated once, not per occurrence.
+
+    SymPy's adaptive evalf asks every occurrence of a root (inside ``re``, ``im`` and
+    powers) for its value at several precisions; substituting the roots first makes
+    the evaluation of a closed form cost one flint call per root.
+    """
+    expr = sp.sympify(expr, strict=True)
+    roots = expr.atoms(AlgebraicRoot)
+    if roots:
+        expr = expr.xreplace({r: r.evalf(dps + 10) for r in roots})
+    return sp.N(expr, dps)
 
 
 class _Unsupported(Exception):

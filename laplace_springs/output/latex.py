@@ -51,13 +51,13 @@ from typing import Literal
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
-from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion
 from ..exact.real_terms import RootSumTerm, Term
 from ..exact.resolvent import Resolvent
 from ..exact.sylvester import FunctionName, matrix_function_terms, sylvester_matrices
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from ..numeric.mp_expr import numeric_value
 from .named_terms import NamedConstants, NamedTerms, reading_order
 
 __all__ = ["LatexWriter", "solution_latex", "resolvent_latex", "sylvester_latex", "matrix_latex",

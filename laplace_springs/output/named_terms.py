@@ -37,9 +37,9 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..exact.algebraic import numeric_value
 from ..exact.named import definitions, named, named_quantities
 from ..model.symbols import TIME
+from ..numeric.mp_expr import numeric_value
 
 __all__ = ["NamedConstants", "NamedTerms", "reading_order", "is_step_at_zero"]
 

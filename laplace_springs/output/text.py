@@ -44,13 +44,13 @@ import sympy as sp
 from sympy.printing.str import StrPrinter
 
 from ..analysis.modes import Mode, float_modes, modes
-from ..exact.algebraic import numeric_value
 from ..exact.named import NamedQuantity
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import lam
 from ..numeric.first_order import scene_arrays
+from ..numeric.mp_expr import numeric_value
 from .named_terms import NamedTerms, reading_order
 
 __all__ = ["DIGITS", "SUMMARY_MODES", "MAX_DEFINITION_TERMS",

@@ -23,7 +23,6 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..exact.algebraic import numeric_value
 from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
@@ -31,7 +30,7 @@ from ..limits import limits
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
-from ..numeric.mp_expr import mp_value
+from ..numeric.mp_expr import mp_value, numeric_value
 from ..numeric.pole_sum import two_diff
 from ..numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
 from ..numeric.times import Times
