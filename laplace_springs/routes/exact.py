@@ -26,6 +26,7 @@ import sympy as sp
 from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
+from ..kernels.modulo import reduce_modulo
 from ..limits import limits
 from ..model.numbers import generic_values
 from ..model.scene import Scene
@@ -336,7 +337,16 @@ def _reduced_mp(times: Times, tau: sp.Expr, period: sp.Expr, dps: int) -> list[m
 
 
 def _reduced_float(times: Times, tau: sp.Expr, period: sp.Expr) -> tuple[np.ndarray, np.ndarray]:
-    """(t − τ) mod P as double-doubles hi + lo, formed exactly before rounding."""
+    """(t − τ) mod P as double-doubles hi + lo: vectorised in double-double for float times
+    and rational τ, P (:func:`~laplace_springs.kernels.modulo.reduce_modulo`), formed exactly
+    before rounding for the rest."""
+    d, P = _exact_number(tau), _exact_number(period)
+    if d is not None and P is not None and not times.lo.any():
+        hi, lo, done = reduce_modulo(times.hi, d, P)
+        rest = np.flatnonzero(~done)
+        if rest.size:
+            hi[rest], lo[rest] = _pairs(_reduced_exact(times.subset(rest), tau, period) or [])
+        return hi, lo
     exact = _reduced_exact(times, tau, period)
     if exact is None:
         with mpmath.workdps(40):
@@ -344,6 +354,11 @@ def _reduced_float(times: Times, tau: sp.Expr, period: sp.Expr) -> tuple[np.ndar
             hi = np.array([float(w) for w in values])
             lo = np.array([float(w - h) for w, h in zip(values, hi)])
         return hi, lo
+    return _pairs(exact)
+
+
+def _pairs(exact: list[Fraction]) -> tuple[np.ndarray, np.ndarray]:
+    """Exact rationals as double-doubles: hi correctly rounded, lo the rounded remainder."""
     hi = np.array([float(w) for w in exact])
     lo = np.array([float(w - Fraction(h)) for w, h in zip(exact, hi)])
     return hi, lo
