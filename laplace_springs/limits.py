@@ -141,6 +141,26 @@ class Limits:
     dense_check_max_coordinates: int = 64
     #: Up to this many coordinates all the poles of a krylov scene are computed densely.
     dense_poles_max_coordinates: int = 200
+    #: Largest scene the refined (long-horizon) engine takes: it holds the n x n shapes as
+    #: double-doubles (256 MB at 4,000) and refines them with n x n float64 products.
+    refined_max_coordinates: int = 4_000
+    #: Largest n·(nonzeros of M, C, K) of a refined scene: the double-double products
+    #: with K take ≈ 1.5e-8 s per unit (measured), so 2e8 is ≈ 3 s per refinement step
+    #: (a dense K of ≈ 600 coordinates; a 4,000-mass chain is 6e7).
+    refined_max_products: int = 200_000_000
+    #: Highest derivative order the refined engine bounds (each order multiplies the
+    #: initial-data term of its bound by about ‖M⁻¹K‖).
+    refined_max_order: int = 4
+    #: Refinement steps at most (each: two n x n float64 products). From float64 pairs
+    #: the residuals reach the double-double level in 2–3 steps; more only for clusters
+    #: whose eigenvalues differ by less than their float64 error.
+    refined_max_steps: int = 6
+    #: Largest cluster (eigenvalues closer than close_poles) diagonalised as one block at
+    #: 40 digits by mpmath (≈ k³ multiprecision operations per cluster of k).
+    refined_max_cluster: int = 48
+    #: Modes summed in float64 per block of x = Φq before the blocks' compensated sum: the
+    #: rounding bound γ_b = 3.6e-15 of Σ|φ||q| at b = 32 stays below the target.
+    refined_sum_block: int = 32
     #: A pole-sum block is used while t·(its link heights) ≤ this.
     block_theta: float = 1.0
     #: Merge two pole groups when their separate forms exceed the joint form by this.
