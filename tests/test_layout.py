@@ -20,7 +20,7 @@ STAGES = ("_version", "limits", "kernels", "model", "exact", "numeric", "analysi
           "routes", "solving", "sweeps", "bench", "cli", "__init__", "__main__")
 #: Third-party packages imported where used: the optional ones, and SciPy (a core dependency,
 #: but its submodules take up to a second to import, so only the routes that need them do).
-OPTIONAL = {"matplotlib", "scipy", "control", "dask", "distributed", "nbclient", "nbformat"}
+OPTIONAL = {"matplotlib", "scipy", "control", "dask", "distributed", "nbclient", "nbformat", "pint"}
 
 
 def _module_name(path: Path) -> str:

@@ -50,6 +50,7 @@ __all__ = [
     "generic_values",
     "shown",
     "parse_expression",
+    "split_unit",
     "to_exact",
 ]
 
@@ -149,8 +150,12 @@ class _ParseError(Exception):
         self.hint = hint
 
 
-def _tokenize(text: str) -> list[_Token]:
-    """Split ``text`` into tokens, refusing every character outside the grammar."""
+def _tokenize(text: str, units: bool = False) -> list[_Token]:
+    """Split ``text`` into tokens, refusing every character outside the grammar.
+
+    With ``units``, a number may touch a letter (``2.5N/cm``) and the first character
+    outside the grammar ends the tokens with a ``"rest"`` token (the text of a unit).
+    """
     tokens: list[_Token] = []
     position = 0
     while position < len(text):
@@ -163,12 +168,16 @@ def _tokenize(text: str) -> list[_Token]:
         if match:
             kind = "number" if number else "name"
             end = match.end()
-            if end < len(text) and (text[end].isalnum() or text[end] in "_."):
+            touching = units and number is not None and text[end:end + 1].isalpha()
+            if end < len(text) and (text[end].isalnum() or text[end] in "_.") and not touching:
                 raise _ParseError(f"unexpected character {text[end]!r}", end + 1)
             tokens.append(_Token(kind, match.group(), position + 1))
             position = end
             continue
         operator = next((op for op in _OPERATORS if text.startswith(op, position)), None)
+        if operator is None and units:
+            tokens.append(_Token("rest", text[position:], position + 1))
+            break
         if operator is None:
             raise _ParseError(f"unexpected character {char!r}", position + 1)
         tokens.append(_Token("op", operator, position + 1))
@@ -251,6 +260,16 @@ class _Parser:
         if self.current.kind != "end":
             raise _ParseError(f"unexpected {self._describe()}", self.current.column)
         return value
+
+    def parse_with_unit(self) -> tuple[sympy.Expr, int | None]:
+        """The expression, and the column where the unit written after it starts (or None)."""
+        value = self.expression()
+        token = self.current
+        if token.kind == "end":
+            return value, None
+        if token.kind in ("name", "number", "rest"):  # juxtaposed: "5 cm", "2.5N/cm", "3 1/s"
+            return value, token.column
+        raise _ParseError(f"unexpected {self._describe()}", token.column)
 
     def expression(self) -> sympy.Expr:
         value = self.term()
@@ -397,6 +416,51 @@ def parse_expression(
     ...
     laplace_springs.model.errors.SceneError: M[0,0]: expected a number, got "__import__('os')": unexpected character '_' at column 1
     """
+    value, _ = _parse_text(text, entry, allowed_functions, variables, expected, units=False)
+    return value
+
+
+def split_unit(
+    text: str,
+    entry: str,
+    *,
+    allowed_functions: Mapping[str, Callable[..., sympy.Expr]] = ALLOWED_FUNCTIONS,
+    variables: Mapping[str, sympy.Expr] | None = None,
+    expected: str = "a number",
+) -> tuple[sympy.Expr, str]:
+    """Split text such as ``"2.5 N/cm"`` into its exact value and the text of its unit.
+
+    The value is read as :func:`parse_expression` reads text; it ends where a name, a
+    number or a character outside the grammar follows it without an operator, and the
+    rest of the text (stripped) is the unit, ``""`` when there is none. Only the unit
+    text goes to a units library (see :mod:`laplace_springs.model.units`).
+
+    Examples
+    --------
+    >>> split_unit("2.5 N/cm", "spring 'k1'")
+    (5/2, 'N/cm')
+    >>> split_unit("10*cos(3*t) N", "forcing[0]")
+    (10*cos(3*t), 'N')
+    >>> split_unit("0.5s", "times[1]"), split_unit("1/20", "x0[0]"), split_unit("3 µm", "x0[1]")
+    ((1/2, 's'), (1/20, ''), (3, 'µm'))
+    >>> split_unit("2 * kg", "mass 'm1'")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: mass 'm1': expected a number, got '2 * kg': unknown name 'kg' at column 5 (to make 'kg' a parameter, declare it: parameters=['kg'], or a [parameters] table in a scene file)
+    """
+    value, column = _parse_text(text, entry, allowed_functions, variables, expected, units=True)
+    return value, "" if column is None else text[column - 1:].strip()
+
+
+def _parse_text(
+    text: str,
+    entry: str,
+    allowed_functions: Mapping[str, Callable[..., sympy.Expr]],
+    variables: Mapping[str, sympy.Expr] | None,
+    expected: str,
+    units: bool,
+) -> tuple[sympy.Expr, int | None]:
+    """The checked value of ``text`` and, with ``units``, the column where its unit starts."""
     if not isinstance(text, str):
         raise SceneError(f"{entry}: expected text, got {text!r}")
     if len(text) > limits().max_expression_length:
@@ -404,17 +468,22 @@ def parse_expression(
             f"{entry}: expression has {len(text)} characters, more than {limits().max_expression_length}"
         )
     names = {"t": TIME, **(variables or {})}
+    column = None
     try:
-        tokens = _tokenize(text)
+        tokens = _tokenize(text, units)
         if tokens[0].kind == "end":
             raise _ParseError("the text is empty", 1)
-        value = _Parser(tokens, allowed_functions, names).parse()
+        parser = _Parser(tokens, allowed_functions, names)
+        if units:
+            value, column = parser.parse_with_unit()
+        else:
+            value = parser.parse()
     except _ParseError as exc:
         hint = f" ({exc.hint})" if exc.hint else ""
         raise SceneError(
             f"{entry}: expected {expected}, got {_shorten(text)}: {exc.reason} at column {exc.column}{hint}"
         ) from None
-    return _require_bounded(_require_finite(value, entry, text), entry, _shorten(text))
+    return _require_bounded(_require_finite(value, entry, text), entry, _shorten(text)), column
 
 
 def _undeclared(name: str, variables: Mapping[str, sympy.Expr]) -> str:

@@ -53,6 +53,7 @@ from .supports import (
     with_support_forcing,
 )
 from .symbols import TIME
+from .units import SceneUnits, parameter_value, read_scene_units, updated_entries
 
 __all__ = [
     "ExactSparseMatrix",
@@ -857,6 +858,10 @@ class Scene:
         Measured force histories (:func:`laplace_springs.model.sampled.sampled`), one
         entry per coordinate, added to ``forcing``; None when there are none. Given as
         forcing entries; they are data, not SymPy expressions.
+    units : SceneUnits or None
+        For a scene written with units (``"0.5 kg"``, ``"2.5 N/cm"``, pint Quantities):
+        the record of the units its author wrote; its numbers are exact SI. None for a
+        scene of bare numbers. See :mod:`laplace_springs.model.units`.
 
     Examples
     --------
@@ -893,6 +898,7 @@ class Scene:
     parameters: tuple[sympy.Symbol, ...] = ()
     support_motion: tuple[tuple[str, sympy.Expr], ...] = ()
     sampled: tuple[Sampled | None, ...] | None = None
+    units: SceneUnits | None = None
 
     def __post_init__(self) -> None:
         for field in ("M", "C", "K", "x0", "v0"):
@@ -1111,6 +1117,8 @@ class Scene:
         """
         keys = self.mass_names or self.names
         declared = declare_parameters(self.parameters, x0, v0)
+        given = updated_entries(self.units, {"x0": x0, "v0": v0}, declared)  # in the scene's units
+        x0, v0 = given["x0"], given["v0"]
         changes = {}
         for name, value in (("x0", x0), ("v0", v0)):
             if value is not None:
@@ -1138,6 +1146,7 @@ class Scene:
             keys = self.names  # coordinate names x1..xn work for every scene
         values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
         declared = declare_parameters(self.parameters, forcing)
+        values = updated_entries(self.units, {"forcing": values}, declared)["forcing"]
         external = forcing_vector(values, self.n, declared)  # moving supports keep driving:
         return dataclasses.replace(self, forcing=with_support_forcing(
             external, self.components, self.mass_names, self.support_motion),
@@ -1204,7 +1213,8 @@ class Scene:
             if not isinstance(name, str) or name not in by_name:
                 raise SceneError(f"subs: {shown(name)} is not a parameter of this scene; "
                                  f"its parameters are {known}")
-            mapping[by_name[name]] = to_exact(value, f"parameter {name!r}", parameters=by_name)
+            given = parameter_value(value, name, self.units, by_name)  # with a unit: in SI
+            mapping[by_name[name]] = to_exact(given, f"parameter {name!r}", parameters=by_name)
         mapping = _resolved(mapping)
         for symbol, exact in mapping.items():
             for assumption in ("positive", "nonnegative", "real", "negative"):
@@ -1228,6 +1238,7 @@ class Scene:
         layout: str = "horizontal",
         forcing: Any = None,
         parameters: Any = None,
+        units: Any = None,
     ) -> Scene:
         """A scene from mass, damping and stiffness matrices.
 
@@ -1259,6 +1270,12 @@ class Scene:
             description; see :func:`laplace_springs.model.numbers.declare_parameters`).
             A SymPy Symbol in an entry is declared by being there. Any other name in
             text is a SceneError.
+        units : None or "SI", optional
+            Entries may carry units (``"2 kg"``, ``"250 N/m"``, ``"5 cm"``, pint
+            Quantities: M a mass, C a damping, K a stiffness, x0 a length, v0 a velocity,
+            forcing a force); they are converted to exact SI and the scene keeps a record
+            of them (:mod:`laplace_springs.model.units`). Then every nonzero entry needs
+            a unit, unless ``units="SI"`` declares bare numbers to be SI.
 
         Returns
         -------
@@ -1293,6 +1310,9 @@ class Scene:
         shape = _matrix_shape(M, "M")  # sizes first: nothing is converted beyond the limits
         _check_coordinates("M", shape[0])
         declared = declare_parameters(parameters, M, C, K, x0, v0, forcing)
+        given, record = read_scene_units("matrices", {"M": M, "C": C, "K": K, "x0": x0, "v0": v0,
+                                                      "forcing": forcing}, declared, units)
+        M, C, K, x0, v0, forcing = (given[name] for name in ("M", "C", "K", "x0", "v0", "forcing"))
         convert = _Converter(declared)
         mass = _exact_matrix(M, "M", convert)
         n = mass.rows
@@ -1310,6 +1330,7 @@ class Scene:
             forcing=forcing_vector(forcing, n, declared),
             sampled=sampled_entries(forcing),
             parameters=tuple(declared.values()),
+            units=record,
         )
 
     @classmethod
@@ -1325,12 +1346,15 @@ class Scene:
         layout: str = "horizontal",
         forcing: Any = None,
         parameters: Any = None,
+        units: Any = None,
     ) -> Scene:
         """A scene from the seed's normalised form ``x'' + B x' + A x = f(t)``.
 
         The scene has ``M = I``, ``K = A`` and ``C = B``. ``A`` need not be
         symmetric (the seed's Example 1 has ``A = [[3, -1], [-2, 2]]``). ``forcing``
-        is then a force per unit mass, as in :meth:`from_matrices`.
+        is then a force per unit mass, as in :meth:`from_matrices`. With units, ``A`` is a
+        stiffness per mass (``"3 1/s**2"``, ``"3 N/(m*kg)"``), ``B`` a damping per mass
+        (``"0.2 1/s"``) and ``forcing`` an acceleration.
 
         Examples
         --------
@@ -1341,6 +1365,9 @@ class Scene:
         shape = _matrix_shape(A, "A")
         _check_coordinates("A", shape[0])
         declared = declare_parameters(parameters, A, B, x0, v0, forcing)
+        given, record = read_scene_units("normalized", {"A": A, "B": B, "x0": x0, "v0": v0,
+                                                        "forcing": forcing}, declared, units)
+        A, B, x0, v0, forcing = (given[name] for name in ("A", "B", "x0", "v0", "forcing"))
         convert = _Converter(declared)
         stiffness = _exact_matrix(A, "A", convert)
         n = stiffness.rows
@@ -1348,7 +1375,7 @@ class Scene:
         identity = _from_entries(n, n, {(i, i): sympy.S.One for i in range(n)})
         return cls.from_matrices(
             M=identity, C=damping, K=stiffness, x0=x0, v0=v0, names=names, title=title,
-            layout=layout, forcing=forcing, parameters=declared,
+            layout=layout, forcing=forcing, parameters=declared, units=record,
         )
 
     @classmethod
@@ -1365,6 +1392,7 @@ class Scene:
         forcing: Any = None,
         parameters: Any = None,
         support_motion: Mapping[str, Any] | None = None,
+        units: Any = None,
     ) -> Scene:
         """A scene assembled from masses, springs and dashpots.
 
@@ -1391,6 +1419,12 @@ class Scene:
             from mass i to the support pulls with k (u − x_i), a dashpot c with
             c (u' − x_i'), so ``forcing`` gains k u + c u'. ``wall_left``, ``wall_right``,
             ``ground2`` ... are distinct supports. See :mod:`laplace_springs.model.supports`.
+        units : None or "SI", optional
+            Values may carry units: masses ``"0.5 kg"`` or ``"500 g"``, springs
+            ``"250 N/m"`` or ``"2.5 N/cm"``, dashpots ``"1.4 N*s/m"`` or ``"1.4 kg/s"``,
+            x0 ``"5 cm"``, v0 ``"2 m/s"``, forces ``"10*cos(3*t) N"`` (t in seconds),
+            support motions ``"sin(3*t) cm"``, or pint Quantities; as in
+            :meth:`from_matrices`.
 
         Returns
         -------
@@ -1422,6 +1456,11 @@ class Scene:
         _check_counts(masses, springs, dashpots)
         declared = declare_parameters(parameters, masses, springs, dashpots, x0, v0, forcing,
                                       support_motion)
+        given, record = read_scene_units("components", {
+            "masses": masses, "springs": springs, "dashpots": dashpots, "x0": x0, "v0": v0,
+            "forcing": forcing, "support_motion": support_motion}, declared, units)
+        masses, springs, dashpots, x0, v0, forcing, support_motion = (given[name] for name in (
+            "masses", "springs", "dashpots", "x0", "v0", "forcing", "support_motion"))
         convert = _Converter(declared)
         mass_values = _parse_masses(masses, convert)
         components = _parse_components(springs, dashpots, mass_values, convert)
@@ -1447,6 +1486,7 @@ class Scene:
             parameters=tuple(declared.values()),
             support_motion=motion,
             sampled=sampled_entries(_initial_by_mass(forcing, "forcing", mass_names)),
+            units=record,
         )
 
 
