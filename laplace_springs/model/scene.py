@@ -95,6 +95,21 @@ def _diagram(scene: Any, fmt: str) -> bytes | str | None:
     return renderer(scene, fmt) if renderer is not None else None
 
 
+#: Draws a scene on matplotlib axes for ``Scene.draw``; registered by output.drawing.
+_DRAWERS: dict[str, Callable[..., Any]] = {}
+
+
+def register_scene_drawer(drawer: Callable[..., Any]) -> None:
+    """Set the function behind ``Scene.draw`` (``laplace_springs.draw_scene``)."""
+    _DRAWERS["draw"] = drawer
+
+
+def _drawer() -> Callable[..., Any]:
+    if "draw" not in _DRAWERS:
+        importlib.import_module(_RENDERER_MODULE)  # registers itself
+    return _DRAWERS["draw"]
+
+
 Parameters = Mapping[str, sympy.Symbol]
 Entries = dict[tuple[int, int], sympy.Expr]
 _NON_FINITE = (sympy.nan, sympy.zoo, sympy.oo, -sympy.oo)
@@ -974,6 +989,10 @@ class Scene:
         moving = support_motion_latex(self)
         start += f",\\quad {moving}" if moving else ""
         return f"${' + '.join(parts)} = {right},\\quad {start}$"
+
+    def draw(self, ax: Any = None, **options: Any) -> Any:
+        """The scene's diagram: :func:`laplace_springs.draw_scene` (needs matplotlib)."""
+        return _drawer()(self, ax, **options)
 
     def _repr_png_(self) -> bytes | None:
         """The scene's diagram as PNG bytes (Jupyter shows it); None without matplotlib or a

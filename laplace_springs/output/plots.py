@@ -300,8 +300,11 @@ def _legend_names(scene: Scene) -> list[str]:
 
 
 def _legend(ax: Axes) -> None:
-    """The legend outside the plot, on the right (as Mathematica's PlotLegends on the seed page)."""
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
+    """The legend inside the axes, where it hides the least of the curves (outside, it was cut
+    off at the edge of a subplot); beyond six entries in two columns."""
+    count = len(ax.get_legend_handles_labels()[1])
+    ax.legend(loc="best", framealpha=0.85, ncols=2 if count > 6 else 1,
+              fontsize="small" if count > 3 else None)
 
 
 def _title(ax: Axes, heading: str, scene: Scene, title: str | bool) -> None:
