@@ -14,6 +14,7 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
     laplace-springs solve wall-pair-dashpot --at 0,0.5,1 --dps 30
     laplace-springs solve three-dashpots --plot motion.png
     laplace-springs solve my-scene.toml --param k=2 --param c=1/2 --at 0,1
+    laplace-springs solve --equations eqs.txt --param k=4   # from the equations of motion
     laplace-springs scenes
     laplace-springs bench --quick -o bench-out
 
@@ -32,6 +33,7 @@ import os
 import sys
 import traceback
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TextIO
 
 import mpmath
@@ -47,6 +49,7 @@ from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
+from .model.text_files import read_text_file
 from .output.plots import overview_figure, plot_frequency_response
 from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
 from .solution import Solution
@@ -99,8 +102,12 @@ def _build_parser() -> argparse.ArgumentParser:
 
     solve = commands.add_parser("solve", help="solve a scene and print x(t)",
                                 description="Solve a scene exactly and print x(t).")
-    solve.add_argument("scene", metavar="SCENE",
+    solve.add_argument("scene", metavar="SCENE", nargs="?",
                        help="a bundled scene name (see 'laplace-springs scenes') or a .toml path")
+    solve.add_argument("--equations", metavar="FILE",
+                       help="read the scene from its equations of motion instead (a text file: "
+                            "x1'' + 3*x1 - x2 = 0 ..., x1(0) = 1/20, x1'(0) = 2; primes, SymPy or "
+                            "Mathematica notation; --param values fill its names)")
     output = solve.add_mutually_exclusive_group()
     output.add_argument("--pretty", action="store_true",
                         help="print the formula (or the modes) in Unicode: α₁, β₁, e^(α₁·t), c₁")
@@ -153,11 +160,41 @@ def _add_common_options(command: argparse.ArgumentParser) -> None:
 
 def _scene_of(args: argparse.Namespace) -> Scene:
     """The scene named on the command line, with the ``--param`` values substituted."""
-    scene = load_scene(args.scene)
-    if not args.param:
+    values = _param_values(args.param or [])
+    scene = _equations_scene(args, values) if getattr(args, "equations", None) else _named_scene(args)
+    if not values:
         return scene
+    try:
+        return scene.subs(values)
+    except SceneError as exc:
+        raise SceneError(f"--param: {str(exc).removeprefix('subs: ')}") from None
+
+
+def _named_scene(args: argparse.Namespace) -> Scene:
+    if args.scene is None:
+        raise UsageError("solve: give a SCENE (a bundled name or a .toml path) or --equations FILE")
+    return load_scene(args.scene)
+
+
+def _equations_scene(args: argparse.Namespace, values: dict[str, str]) -> Scene:
+    """The scene of ``--equations FILE``; the ``--param`` names are its declared parameters."""
+    if args.scene is not None:
+        raise UsageError(f"solve: give a SCENE or --equations, not both (got {args.scene!r} and "
+                         f"--equations {args.equations!r})")
+    path = Path(args.equations)
+    text = read_text_file(path, "equations file", "max_file_bytes")
+    try:
+        return Scene.from_equations(text, parameters=list(values), title=path.stem)
+    except SceneError as exc:
+        hint = (" (in an equations file, declare names by a line 'parameters: k, c' or give "
+                "values: a line 'k = 2', or --param k=2)") if "unknown name" in str(exc) else ""
+        raise SceneError(f"{path}: {exc}{hint}") from None
+
+
+def _param_values(items: Sequence[str]) -> dict[str, str]:
+    """``--param NAME=VALUE`` items as a mapping."""
     values: dict[str, str] = {}
-    for item in args.param:
+    for item in items:
         name, equals, value = item.partition("=")
         name = name.strip()
         if not equals or not name or not value.strip():
@@ -165,10 +202,7 @@ def _scene_of(args: argparse.Namespace) -> Scene:
         if name in values:
             raise UsageError(f"--param: {name!r} is given twice")
         values[name] = value.strip()
-    try:
-        return scene.subs(values)
-    except SceneError as exc:
-        raise SceneError(f"--param: {str(exc).removeprefix('subs: ')}") from None
+    return values
 
 
 def _require_numbers(scene: Scene, what: str) -> None:
@@ -573,6 +607,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = _build_parser()
     try:
         args = parser.parse_args(argv)
+        if getattr(args, "command", None) == "solve" and args.scene is None and not args.equations:
+            parser.error("solve: give a SCENE (a bundled name or a .toml path) or --equations FILE")
     except SystemExit as exc:  # --help, --version, or an argparse usage error
         return exc.code if isinstance(exc.code, int) else _EXIT_ERROR
     debug = getattr(args, "debug", False)

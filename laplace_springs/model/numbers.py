@@ -105,6 +105,13 @@ _REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist = 3, 80, 80, 8
 _NUMBER = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 _OPERATORS = ("**", "+", "-", "*", "/", "^", "(", ")", ",")
+#: Operators of text with unknown functions (equations of motion): primes ``x''``,
+#: Mathematica's brackets ``x[t]``, and the method call ``x(t).diff(t)``.
+_UNKNOWN_OPERATORS = ("'", "[", "]", ".")
+
+#: Builds the value of an unknown function as written: (derivative order, argument or
+#: None for a bare name) -> expression. See :func:`parse_expression`'s ``unknowns``.
+UnknownFunction = Callable[[int, "sympy.Expr | None"], sympy.Expr]
 
 
 def _shorten(text: str, limit: int = 80) -> str:
@@ -150,11 +157,12 @@ class _ParseError(Exception):
         self.hint = hint
 
 
-def _tokenize(text: str, units: bool = False) -> list[_Token]:
+def _tokenize(text: str, units: bool = False, extra: tuple[str, ...] = ()) -> list[_Token]:
     """Split ``text`` into tokens, refusing every character outside the grammar.
 
     With ``units``, a number may touch a letter (``2.5N/cm``) and the first character
     outside the grammar ends the tokens with a ``"rest"`` token (the text of a unit).
+    ``extra`` operators are accepted too (:data:`_UNKNOWN_OPERATORS` for equations).
     """
     tokens: list[_Token] = []
     position = 0
@@ -174,7 +182,7 @@ def _tokenize(text: str, units: bool = False) -> list[_Token]:
             tokens.append(_Token(kind, match.group(), position + 1))
             position = end
             continue
-        operator = next((op for op in _OPERATORS if text.startswith(op, position)), None)
+        operator = next((op for op in (*_OPERATORS, *extra) if text.startswith(op, position)), None)
         if operator is None and units:
             tokens.append(_Token("rest", text[position:], position + 1))
             break
@@ -218,12 +226,14 @@ class _Parser:
         tokens: list[_Token],
         functions: Mapping[str, Callable[..., sympy.Expr]],
         variables: Mapping[str, sympy.Expr],
+        unknowns: Mapping[str, UnknownFunction] | None = None,
     ) -> None:
         self.tokens = tokens
         self.index = 0
         self.depth = 0
         self.functions = functions
         self.variables = variables
+        self.unknowns = unknowns
 
     # -- token helpers -------------------------------------------------
     @property
@@ -296,7 +306,7 @@ class _Parser:
         return -operand if token.text == "-" else operand
 
     def power(self) -> sympy.Expr:
-        base = self.atom()
+        base = self.atom() if self.unknowns is None else self.method_calls(self.atom())
         token = self._accept("**", "^")
         if token is None:
             return base
@@ -321,6 +331,8 @@ class _Parser:
 
     def name(self, token: _Token) -> sympy.Expr:
         name = token.text
+        if self.unknowns is not None and name in self.unknowns:
+            return self.unknown(token)
         if name in self.functions:
             return self.call(token)
         if self.current.kind == "op" and self.current.text == "(":
@@ -354,6 +366,47 @@ class _Parser:
             raise _ParseError(f"cannot call {token.text} with {len(arguments)} argument(s): {exc}",
                               token.column) from exc
 
+    # -- unknown functions (equations of motion) ---------------------------
+    def unknown(self, token: _Token) -> sympy.Expr:
+        """``x``, ``x'``, ``x''(t)``, ``x'[0]``: primes, then an optional argument."""
+        order = 0
+        while self._accept("'") is not None:
+            order += 1
+        argument = None
+        opening = self._accept("(", "[")
+        if opening is not None:
+            with self._nested():
+                argument = self.expression()
+                self._expect(")" if opening.text == "(" else "]")
+        assert self.unknowns is not None
+        try:
+            return self.unknowns[token.text](order, argument)
+        except ValueError as exc:  # SceneError from the builder: where it was written
+            raise _ParseError(str(exc), token.column) from None
+
+    def method_calls(self, value: sympy.Expr) -> sympy.Expr:
+        """``value.f(arguments)`` as ``f(value, arguments)``, for allowed functions ``f``
+        (``x1(t).diff(t)``)."""
+        while (dot := self._accept(".")) is not None:
+            method = self.current
+            if method.kind != "name" or method.text not in self.functions:
+                known = ", ".join(sorted(self.functions))
+                raise _ParseError(f"expected a method after '.' (one of {known}), found "
+                                  f"{self._describe()}", dot.column)
+            self.index += 1
+            self._expect("(")
+            with self._nested():
+                arguments = [value, self.expression()]
+                while self._accept(",") is not None:
+                    arguments.append(self.expression())
+                self._expect(")")
+            try:
+                value = self.functions[method.text](*arguments)
+            except (TypeError, ValueError) as exc:
+                raise _ParseError(f"cannot call .{method.text} with {len(arguments) - 1} argument(s): "
+                                  f"{exc}", method.column) from exc
+        return value
+
 
 def parse_expression(
     text: str,
@@ -362,6 +415,7 @@ def parse_expression(
     allowed_functions: Mapping[str, Callable[..., sympy.Expr]] = ALLOWED_FUNCTIONS,
     variables: Mapping[str, sympy.Expr] | None = None,
     expected: str = "a number",
+    unknowns: Mapping[str, UnknownFunction] | None = None,
 ) -> sympy.Expr:
     """Parse an arithmetic expression into an exact SymPy expression, safely.
 
@@ -379,6 +433,13 @@ def parse_expression(
         :func:`declare_parameters`). Any other name is refused.
     expected : str, optional
         What the text should be, for error messages (``"an expression in t"``).
+    unknowns : mapping of str to callable, optional
+        Unknown functions of an equation of motion, by name: ``x1``, ``x1'``,
+        ``x1''(t)``, ``x1(0)``, Mathematica's ``x'[t]`` (primes, then an optional argument
+        in parentheses or brackets) become ``unknowns["x1"](order, argument)``
+        (argument None for a bare name); a value may be followed by ``.f(...)`` for an
+        allowed function f (``x1(t).diff(t)`` is ``diff(x1(t), t)``). Only the
+        characters ``' [ ] .`` are added to the grammar, and only with ``unknowns``.
 
     Returns
     -------
@@ -416,7 +477,8 @@ def parse_expression(
     ...
     laplace_springs.model.errors.SceneError: M[0,0]: expected a number, got "__import__('os')": unexpected character '_' at column 1
     """
-    value, _ = _parse_text(text, entry, allowed_functions, variables, expected, units=False)
+    value, _ = _parse_text(text, entry, allowed_functions, variables, expected, units=False,
+                           unknowns=unknowns)
     return value
 
 
@@ -459,6 +521,7 @@ def _parse_text(
     variables: Mapping[str, sympy.Expr] | None,
     expected: str,
     units: bool,
+    unknowns: Mapping[str, UnknownFunction] | None = None,
 ) -> tuple[sympy.Expr, int | None]:
     """The checked value of ``text`` and, with ``units``, the column where its unit starts."""
     if not isinstance(text, str):
@@ -470,10 +533,10 @@ def _parse_text(
     names = {"t": TIME, **(variables or {})}
     column = None
     try:
-        tokens = _tokenize(text, units)
+        tokens = _tokenize(text, units, _UNKNOWN_OPERATORS if unknowns is not None else ())
         if tokens[0].kind == "end":
             raise _ParseError("the text is empty", 1)
-        parser = _Parser(tokens, allowed_functions, names)
+        parser = _Parser(tokens, allowed_functions, names, unknowns)
         if units:
             value, column = parser.parse_with_unit()
         else:

@@ -39,6 +39,7 @@ from sympy.polys.matrices import DomainMatrix
 from ..limits import limits
 from . import state_space as _state_space
 from .components import Component
+from .equations import read_equations
 from .errors import SceneError
 from .forcing import forcing_vector
 from .numbers import declare_parameters, generic_values, shown, to_exact
@@ -1507,6 +1508,68 @@ class Scene:
             sampled=sampled_entries(_initial_by_mass(forcing, "forcing", mass_names)),
             units=record,
         )
+
+    @classmethod
+    def from_equations(
+        cls,
+        equations: Any,
+        *,
+        parameters: Any = None,
+        coordinates: Sequence[str] | None = None,
+        x0: Any = None,
+        v0: Any = None,
+        title: str = "",
+        layout: str = "horizontal",
+    ) -> Scene:
+        """A scene from its equations of motion, as text or SymPy ``Eq`` objects.
+
+        Reads primes (``x1'' + 3*x1 - x2 = 0``, ``x1'(0) = 2``), SymPy's notation
+        (``Derivative(x1(t), t, 2)``, ``x1(t).diff(t)``, ``Eq`` objects) and Mathematica's
+        (``m1*x''[t] + k*x[t] == 0``, ``x[0] == d1``), with initial conditions, values
+        (``k1 = 400``) and forces on the right-hand side; the text is parsed, never
+        evaluated. See :mod:`laplace_springs.model.equations` for the notations and what
+        is refused.
+
+        Parameters
+        ----------
+        equations : str, sympy.Eq, or a sequence of them
+            The equations of motion and (optionally) the initial conditions.
+        parameters : sequence or mapping, optional
+            Names the text may use as symbols, as in :meth:`from_matrices`.
+        coordinates : sequence of str, optional
+            The unknown functions in column order.
+        x0, v0 : sequence or mapping, optional
+            Initial data not given as equations.
+        title : str, optional
+        layout : {"horizontal", "vertical"}, optional
+
+        Returns
+        -------
+        Scene
+            Rows of M, C, K are the equations (each sign-normalised so that its own
+            leading coefficient is positive), columns the coordinates.
+
+        Raises
+        ------
+        SceneError
+            For a term not linear in the unknowns (``x1**2``, ``sin(x1)``), a coefficient
+            depending on t, a third derivative, a coordinate without an equation, a
+            missing or repeated initial condition, and every error of :meth:`from_matrices`.
+
+        Examples
+        --------
+        >>> scene = Scene.from_equations('''
+        ...     x1'' + 3*x1 - x2 = 0
+        ...     x2'' - 2*x1 + 2*x2 = 0
+        ...     x1(0) = 1/20; x1'(0) = 2; x2(0) = 0; x2'(0) = 0''')
+        >>> scene.K, scene.x0.T
+        (Matrix([
+        [ 3, -1],
+        [-2,  2]]), Matrix([[1/20, 0]]))
+        """
+        system = read_equations(equations, parameters=parameters, coordinates=coordinates,
+                                x0=x0, v0=v0)
+        return cls.from_matrices(**system.matrices(), title=title, layout=layout)
 
 
 def _optional_matrix(value: Any, name: str, reference: Any, reference_name: str,

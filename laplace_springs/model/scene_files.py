@@ -25,7 +25,17 @@ A scene file describes a scene in one of three forms. Components::
 
 matrices (``[matrices]`` with ``M`` and optionally ``C``, ``K``), or the seed's
 normalised form (``[normalized]`` with ``A`` and optionally ``B``); both take
-``[initial]`` too and an optional top-level ``names`` array. Numbers may be TOML
+``[initial]`` too and an optional top-level ``names`` array. Or the equations of motion
+(``[equations]``, read by :meth:`Scene.from_equations`; forces on their right-hand
+side, initial conditions among them or in ``[initial]``)::
+
+    [equations]
+    motion = [
+        "m1*x1'' + (k1 + k2)*x1 - k2*x2 = 0",
+        "m2*x2'' - k2*x1 + (k2 + k3)*x2 = cos(t)",
+        "x1(0) = 1/20; x1'(0) = 0; x2(0) = 0; x2'(0) = 0",
+    ]
+    coordinates = ["x1", "x2"]     # optional: the column order Numbers may be TOML
 strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
 means ``1/5``); all go through :func:`laplace_springs.model.numbers.to_exact`, and no
 text is ever evaluated. A name in text is a parameter only if the ``[parameters]``
@@ -88,8 +98,10 @@ _FORMS = {
     "masses": ("masses", "springs", "dashpots", "support_motion"),
     "matrices": ("matrices", "names"),
     "normalized": ("normalized", "names"),
+    "equations": ("equations",),
 }
 _FORM_TABLES = {"matrices": ("M", "C", "K"), "normalized": ("A", "B")}
+_EQUATIONS_KEYS = ("motion", "coordinates")
 _INITIAL_KEYS = ("x0", "v0")
 
 
@@ -114,12 +126,12 @@ def _text(data: Mapping[str, Any], key: str, default: str) -> str:
 
 
 def _form_of(data: Mapping[str, Any]) -> str:
-    """Which of the three forms the file uses; exactly one must be present."""
+    """Which of the four forms the file uses; exactly one must be present."""
     present = [form for form in _FORMS if form in data]
     if len(present) != 1:
         found = ", ".join(f"[{form}]" for form in present) or "none"
-        raise SceneError("a scene file needs exactly one of [masses], [matrices], [normalized]; "
-                         f"found {found}")
+        raise SceneError("a scene file needs exactly one of [masses], [matrices], [normalized], "
+                         f"[equations]; found {found}")
     form = present[0]
     allowed = _COMMON_KEYS + _FORMS[form]
     for key in data:
@@ -134,6 +146,9 @@ def _scene_from_data(data: Mapping[str, Any], base: str | os.PathLike[str] | Non
     forcing = data.get("forcing")
     if forcing is None:
         return scene
+    if "equations" in data:
+        raise SceneError("[forcing] does not belong with [equations]: write the forces on the "
+                         "right-hand side of the equations")
     if not isinstance(forcing, (list, dict)):
         raise SceneError(f"'forcing' must be an array (one entry per coordinate) or a table "
                          f"(mass name = expression), got {shown(forcing)}")
@@ -157,6 +172,8 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     title, layout = _text(data, "title", ""), _text(data, "layout", "horizontal")
     _text(data, "description", "")  # checked only: free text, not part of a Scene
     parameters = _parameters(data)
+    if form == "equations":
+        return _equations_scene(_table(data, "equations"), initial, parameters, title, layout)
     if form == "masses":
         return Scene.from_components(
             masses=_table(data, "masses"),
@@ -181,6 +198,26 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     if form == "matrices":
         return Scene.from_matrices(**matrices, **common)
     return Scene.from_normalized(**matrices, **common)
+
+
+def _equations_scene(table: Mapping[str, Any], initial: Mapping[str, Any],
+                     parameters: Mapping[str, Any], title: str, layout: str) -> Scene:
+    """The ``[equations]`` form: ``motion`` (text, or an array of statements) and
+    optionally ``coordinates``; initial conditions in the text or in ``[initial]``."""
+    _check_keys(table, _EQUATIONS_KEYS, "in [equations]")
+    motion = table.get("motion")
+    if isinstance(motion, list) and all(isinstance(item, str) for item in motion):
+        motion = "\n".join(motion)
+    if not isinstance(motion, str):
+        raise SceneError(f"[equations] motion must be a string or an array of strings (the "
+                         f"equations), got {shown(motion)}")
+    coordinates = table.get("coordinates")
+    if coordinates is not None and not (isinstance(coordinates, list)
+                                        and all(isinstance(name, str) for name in coordinates)):
+        raise SceneError(f"[equations] coordinates must be an array of names, got {shown(coordinates)}")
+    return Scene.from_equations(motion, parameters=parameters, coordinates=coordinates,
+                                x0=initial.get("x0"), v0=initial.get("v0"), title=title,
+                                layout=layout)
 
 
 def _names(data: Mapping[str, Any]) -> list[str] | None:

@@ -273,7 +273,7 @@ def test_code_in_a_title_is_only_text(tmp_path):
         ('[normalized]\nA = [[1]]\nC = [[1]]', r"unknown key 'C' in \[normalized\]"),
         ('[matrices]\nK = [[1]]', r"\[matrices\] needs M"),
         ('[normalized]\nB = [[1]]', r"\[normalized\] needs A"),
-        ('title = "x"', r"needs exactly one of \[masses\], \[matrices\], \[normalized\]; found none"),
+        ('title = "x"', r"needs exactly one of \[masses\], \[matrices\], \[normalized\], \[equations\]; found none"),
         ('[masses]\nm1 = 1\n[matrices]\nM = [[1]]', r"found \[masses\], \[matrices\]"),
         ('[matrices]\nM = [[1]]\n[springs]\nk = ["wall", "m1", 1]', r"key 'springs' does not belong with \[matrices\]"),
         ('names = ["a"]\n[masses]\nm1 = 1', r"key 'names' does not belong with \[masses\]"),
