@@ -37,6 +37,7 @@ from .limits import limits
 from .model.errors import LimitError, SceneError
 from .model.scene import Scene
 from .model.symbols import TIME
+from .model.units import attach_units
 from .numeric.first_order import massless_nodes, scene_entries
 from .numeric.times import Times, as_times, check_dps
 from .output.latex import matrix_latex
@@ -178,7 +179,7 @@ class Solution(ABC):
 
     def evaluate(self, times: Any, *, dps: int | None = None, return_error: bool = False,
                  target: float | None = None, derivative: int = 0,
-                 return_report: bool = False) -> Any:
+                 return_report: bool = False, units: bool | str = False) -> Any:
         """x(t) (or a derivative) at the given times.
 
         Parameters
@@ -202,6 +203,10 @@ class Solution(ABC):
         return_report : bool
             Also return an :class:`~laplace_springs.planning.execute.EvaluationReport`: the
             plan, and which engine produced each time.
+        units : bool or str
+            For a scene written with units: True returns values and bounds as pint
+            Quantities in metres (m/s, m/s² for derivatives), a unit such as ``"cm"``
+            converts to it. Times may carry units whatever this says (``"0.5 s"``).
 
         Returns
         -------
@@ -247,6 +252,8 @@ class Solution(ABC):
                                              self._floor(order))
             _check_float_result(values, bounds, T, report, goal)
             bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
+        if units:  # Quantities in the scene's units or the unit asked for
+            values, bounds = (attach_units(a, self.scene, order, units) for a in (values, bounds))
         out = (values, bounds) if return_error else (values,)
         out = (*out, report) if return_report else out
         return out if len(out) > 1 else out[0]

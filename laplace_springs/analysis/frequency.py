@@ -26,6 +26,7 @@ from ..model.errors import SceneError
 from ..model.numbers import to_exact
 from ..model.scene import Scene
 from ..model.supports import support_columns
+from ..model.units import frequencies_to_rad_per_second
 from ..model.symbols import lam
 from ..numeric.first_order import float_matrix
 
@@ -51,8 +52,9 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
     ----------
     scene : Scene
     omegas : array_like, optional
-        Driving frequencies. Without them the exact matrix is returned as a function of
-        the symbol :data:`omega`.
+        Driving frequencies in rad/s, or with units (``"2 Hz"`` is 4π rad/s, pint
+        Quantities). Without them the exact matrix is returned as a function of the
+        symbol :data:`omega`.
 
     Returns
     -------
@@ -77,6 +79,7 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
         at = {lam: sp.I * omega}
         delta = sp.expand(R.determinant.as_expr().xreplace(at))
         return sp.ImmutableMatrix(R.adjugate.applyfunc(lambda e: sp.expand(e.xreplace(at)) / delta))
+    omegas = frequencies_to_rad_per_second(omegas)
     M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
     w = np.atleast_1d(np.asarray(omegas, dtype=float))
     pencils = K[None] - (w**2)[:, None, None] * M[None] + 1j * w[:, None, None] * C[None]
@@ -283,6 +286,7 @@ def transmissibility(scene: Scene, omegas: ArrayLike | None = None, support: str
                 row.append(sp.sqrt(sp.cancel(sp.expand(P.xreplace({omega: w})) / denominator)))
             table.append(row)
         return sp.ImmutableMatrix(table)
+    omegas = frequencies_to_rad_per_second(omegas)  # "2 Hz" is 4π rad/s
     Ks, Cs = (float_matrix(column, name).ravel() for column, name in
               zip(support_columns(scene, support), ("K_s", "C_s")))
     M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))

@@ -44,7 +44,8 @@ class Mode:
     kind : {"oscillatory", "real", "rigid"}
         A complex pair; a real nonzero eigenvalue; λ = 0.
     natural_frequency : sympy.Expr
-        ω_n = |λ| (rad per unit time).
+        ω_n = |λ| (rad per unit time: rad/s for a scene with units; in Hz,
+        :attr:`natural_frequency_hz`).
     damped_frequency : sympy.Expr
         ω_d = Im λ (0 for real eigenvalues).
     damping_ratio : sympy.Expr or None
@@ -69,6 +70,20 @@ class Mode:
     def shape(self) -> np.ndarray:
         """The first mode shape."""
         return self.shapes[0]
+
+    @property
+    def natural_frequency_hz(self) -> sp.Expr:
+        """f_n = ω_n/(2π), exact: cycles per second (Hz) when time is in seconds.
+
+        >>> Mode(sp.I * 2, "oscillatory", sp.Integer(2), sp.Integer(2), sp.S.Zero, 1, ()).natural_frequency_hz
+        1/pi
+        """
+        return self.natural_frequency / (2 * sp.pi)
+
+    @property
+    def damped_frequency_hz(self) -> sp.Expr:
+        """f_d = ω_d/(2π), exact: cycles per second (Hz) when time is in seconds."""
+        return self.damped_frequency / (2 * sp.pi)
 
     def __repr__(self) -> str:
         """``Mode(ω_n=2, ζ=1/10, oscillatory)``: short exact values as they are, others ≈ 6 digits.

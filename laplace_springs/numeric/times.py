@@ -25,6 +25,7 @@ import sympy as sp
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
+from ..model.units import times_to_seconds
 
 __all__ = ["Times", "as_times", "check_dps"]
 
@@ -120,6 +121,9 @@ def _float_pair(value: object) -> tuple[float, float]:
 def as_times(times: object) -> Times:
     """Validate evaluation times (a scalar is one time).
 
+    Times may carry units (``"0.5 s"``, ``"250 ms"``, a pint Quantity): they are converted
+    to exact seconds (:func:`laplace_springs.model.units.times_to_seconds`).
+
     Raises
     ------
     ValueError
@@ -135,6 +139,7 @@ def as_times(times: object) -> Times:
     ...
     ValueError: times[1] must be finite, got nan
     """
+    times = times_to_seconds(times)
     numeric = times if isinstance(times, np.ndarray) else _plain_numbers(times)
     if numeric is not None and numeric.dtype.kind in "fiu":
         hi = np.atleast_1d(numeric).astype(float).ravel()
