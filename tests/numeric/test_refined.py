@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from laplace_springs import Scene
+from laplace_springs.numeric import refined
 from laplace_springs.numeric.refined import (
     RefinedMotion,
     refined_cost,
@@ -119,7 +120,9 @@ def check(values: np.ndarray, bounds: np.ndarray, reference: np.ndarray, scale: 
 
 def contract_scale(reference: np.ndarray, x0: list, v0: list, poles: np.ndarray) -> np.ndarray:
     rho = float(np.max(np.abs(poles)))
-    s0 = max(abs(float(Fraction(v))) for v in x0) + max(abs(float(Fraction(v))) for v in v0) / rho
+    s0 = max(abs(float(Fraction(v))) for v in x0)
+    if rho > 0:
+        s0 += max(abs(float(Fraction(v))) for v in v0) / rho
     return np.maximum(np.max(np.abs(reference), axis=0), s0)
 
 
@@ -187,8 +190,7 @@ def test_chain200_residual_term_is_negligible_at_long_times(chain200):
     m = chain200.modes
     assert np.max(m.rho_K) < 1e-28 and m.e0 < 1e-26 and m.theta_low > 2.4e-4
     s = chain200._scalars
-    _, _, _, _, supC, supS = __import__("laplace_springs.numeric.refined", fromlist=["_closed_forms"]) \
-        ._closed_forms(s, np.array([1e9]), np.array([0.0]))
+    _, _, _, _, supC, supS = refined._closed_forms(s, np.array([1e9]), np.array([0.0]))
     energy = chain200._energy(np.array([1e9]), np.array([0.0]), 0, supC, supS)
     assert energy[0] < 1e-16
 
@@ -239,22 +241,22 @@ def test_exact_decimal_times_are_used_exactly():
 # ----------------------------------------------------------------------------- repeated eigenvalues
 
 
-def test_two_identical_free_free_chains_to_1e7():
-    """Two identical free–free 9-mass chains (18 coordinates): rigid modes θ = 0 and every
-    eigenvalue twice; light Rayleigh damping, so the waves live to t = 1e7."""
+def test_two_identical_free_free_chains_to_1e9():
+    """Two identical free–free 9-mass chains (18 coordinates): rigid modes θ = 0 (one
+    drifts, q = a + b·t) and every eigenvalue twice; light Rayleigh damping, so the waves
+    live to t = 1e7. The rigid modes are the exact null vectors of K: no residual."""
     masses = [1, 2, 1, 3, 1, 2, 1, 2, 1]
     springs = [2, 1, 3, 1, 2, 5, 1, 2]
     M, C, K = free_chains(2, 9, masses, springs, Fraction(1, 10**8), Fraction(0))
     x0 = [Fraction(1, 2), 0, 0, Fraction(-1, 3), 0, 0, 0, 0, 1] + [0, 1, 0, 0, 0, 0, 0, 0, Fraction(1, 4)]
     v0 = [0] * 17 + [Fraction(1, 1000)]
     motion = motion_of(M, C, K, x0, v0)
-    times = [0, 2.5, 1e4, 1e6, 1e7]
+    times = [0, 2.5, 1e4, 1e6, 1e7, 1e9]
     values, bounds = motion.evaluate(as_times(times), 0)
     reference = modal_reference(M, C, K, x0, v0, times)
     check(values, bounds, reference, contract_scale(reference, x0, v0, motion.poles()))
-    assert len(motion.modes.th) == 18
-    clusters = sorted(len(c) for c in __import__("laplace_springs.numeric.refined", fromlist=["x"])
-                      ._clusters(motion.modes.th))
+    assert len(motion.modes.th) == 18 and np.count_nonzero(motion.modes.th == 0) == 2
+    clusters = sorted(len(c) for c in refined._clusters(motion.modes.th))
     assert clusters == [2] * 9
 
 
@@ -416,3 +418,53 @@ def test_empty_times_and_bad_order():
     assert values.shape == (3, 0) and bounds.shape == (3, 0)
     with pytest.raises(ValueError, match="order must be a non-negative integer"):
         motion.evaluate(as_times([1.0]), -1)
+
+
+def test_dense_stiffness_by_exact_slices(set_limits):
+    """A dense K takes the error-free sliced products (forced here on a small scene by
+    narrowing Limits.banded_max_bandwidth): the products against exact rationals, and the
+    motion against mpmath (the issue's dense scene: M = I, K = B·Bᵀ + 10·I)."""
+    set_limits(banded_max_bandwidth=1)
+    rng = np.random.default_rng(5)
+    n = 12
+    B = rng.integers(-3, 4, size=(n, n))
+    K = (B @ B.T + 10 * np.eye(n, dtype=int)).tolist()
+    M = np.eye(n, dtype=int).tolist()
+    C = np.zeros((n, n), dtype=int).tolist()
+    x0, v0 = [1] + [0] * (n - 1), [0] * (n - 1) + [1]
+    motion = motion_of(M, C, K, x0, v0)
+    exact = refined._exact_data(motion.scene)
+    assert isinstance(exact.K, refined._Dense)
+    X = rng.standard_normal((n, 2))
+    hi, lo = refined._apply(exact.K, X, X * 1e-17)
+    for i in range(n):
+        for j in range(2):
+            value = sum(Fraction(K[i][k]) * (Fraction(X[k, j]) + Fraction(X[k, j] * 1e-17)) for k in range(n))
+            size = sum(abs(Fraction(K[i][k]) * Fraction(X[k, j])) for k in range(n))
+            assert abs(Fraction(hi[i, j]) + Fraction(lo[i, j]) - value) <= Fraction(2.0**-104) * size
+    times = [0, 1.0, 1e4, 1e6]
+    values, bounds = motion.evaluate(as_times(times), 0)
+    reference = modal_reference(M, C, K, x0, v0, times)
+    check(values, bounds, reference, contract_scale(reference, x0, v0, motion.poles()))
+
+
+def test_free_parts_are_exact_rigid_modes():
+    """Indicator vectors of free parts are used as rigid modes only when they are exact,
+    M-orthogonal null vectors of K that C keeps apart."""
+    chains = matrices(*free_chains(2, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(1, 10))[:3],
+                      [1] * 6, [0] * 6)
+    assert [list(c) for c in refined._free_components(chains)] == [[0, 1, 2], [3, 4, 5]]
+    grounded = fixed_chain(4)
+    assert refined._free_components(grounded) == []
+    M, C, K = free_chains(2, 2, [1, 1], [1], Fraction(0), Fraction(0))
+    C[1][2] = C[2][1] = Fraction(-1)  # a dashpot between the two parts
+    C[1][1] += 1
+    C[2][2] += 1
+    coupled = matrices(M, C, K, [1, 0, 0, 0], [0] * 4)
+    assert refined._free_components(coupled) == []
+    motion = refined_motion(chains)
+    values, bounds = motion.evaluate(as_times([1e8]), 0)
+    assert np.count_nonzero(motion.modes.rho_K == 0) == 2
+    M, C, K = free_chains(2, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(1, 10))
+    reference = modal_reference(M, C, K, [1] * 6, [0] * 6, [1e8])
+    check(values, bounds, reference, 1.0)
