@@ -211,6 +211,23 @@ class Limits:
     max_file_bytes: int = 16 * 2**20
     #: Largest CSV file read (about 2 million rows of two numbers).
     max_csv_bytes: int = 64 * 2**20
+    #: Most atoms c·t^k·e^{zt} a forcing entry may expand into (a cosine counts 2, a step
+    #: 2; estimated from the expression before expanding, model/forcing_size.py).
+    max_forcing_terms: int = 512
+    #: Highest power of t in a forcing entry.
+    max_forcing_degree: int = 32
+
+    # -- output: animations, worked-example pages, the explorer ----------------------------
+    #: Most masses an animation draws; a larger scene animates a chosen subset (by default
+    #: this many, evenly spaced). Beyond about 12 blocks a diagram in a 9-inch-wide figure
+    #: has labels under 6 points.
+    animation_max_masses: int = 12
+    #: Most frames of one animation (a 12-second clip at 25 frames per second): each frame
+    #: is a PNG of 20-60 kB in an inline (to_jshtml) animation.
+    animation_max_frames: int = 300
+    #: Most parameter sets a worked-example page precomputes for its sliders (each set is
+    #: n x 120 values, about 1.5 kB of JSON per coordinate in the page).
+    page_max_grid_sets: int = 400
 
 
 #: The limits the package ships with.

@@ -751,7 +751,7 @@ def _fitter(diagram: Diagram) -> Any:
 
 
 def build_diagram(scene: Scene, ax: Axes | None = None, *, show_values: bool = False,
-                  title: str | bool = True, label_size: float = 16) -> Diagram:
+                  title: str | bool = True, label_size: float = 16, chain: Chain | None = None) -> Diagram:
     """Draw the scene's masses, springs, dashpots and supports like the seed's figures.
 
     Parameters
@@ -768,6 +768,9 @@ def build_diagram(scene: Scene, ax: Axes | None = None, *, show_values: bool = F
     label_size : float
         Font size of the labels, in points, in a figure of :data:`SCALE_INCHES` inches per
         block length (in smaller axes the labels shrink with the drawing).
+    chain : Chain, optional
+        The chain to draw (default ``chain_of(scene)``): the animations draw a part of a
+        large scene.
 
     Returns
     -------
@@ -788,7 +791,7 @@ def build_diagram(scene: Scene, ax: Axes | None = None, *, show_values: bool = F
     >>> diagram.move([0.2, -0.1]); diagram.block_positions().round(6).tolist()
     [0.2, -0.1]
     """
-    chain = chain_of(scene)
+    chain = chain_of(scene) if chain is None else chain
     orientation = orientation_of(chain)
     style = _Style(show_values, label_size / 72.0 / SCALE_INCHES, 1.6)
     slots = _slots(chain, orientation)
