@@ -47,9 +47,16 @@ from .bench import harness as bm
 from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
+from .model.numbers import split_unit
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
 from .model.text_files import read_text_file
+from .model.units import (
+    frequencies_to_rad_per_second,
+    in_length_unit,
+    times_to_seconds,
+    unit_note_text,
+)
 from .output.plots import overview_figure, plot_frequency_response
 from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
 from .solution import Solution
@@ -127,6 +134,9 @@ def _build_parser() -> argparse.ArgumentParser:
                        help="with the formula: only these coordinates (or masses), e.g. x1,x5")
     solve.add_argument("--dps", type=int, metavar="N",
                        help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
+    solve.add_argument("--unit", metavar="UNIT",
+                       help="for a scene written with units: the unit of x in the output, e.g. cm "
+                            "(default m)")
     solve.add_argument("--plot", metavar="FILE",
                        help="also save the scene's diagram and its motion to FILE (.png, .pdf, .svg)")
     solve.add_argument("--standalone", action="store_true",
@@ -222,7 +232,8 @@ def parse_times(text: str) -> list[float]:
     Parameters
     ----------
     text : str
-        Comma-separated numbers; spaces around items are allowed.
+        Comma-separated numbers; spaces around items are allowed. A time may carry a unit
+        (``0.5s``, ``250 ms``, ``2 min``): it is converted to seconds.
 
     Returns
     -------
@@ -238,6 +249,8 @@ def parse_times(text: str) -> list[float]:
     --------
     >>> parse_times("0, 0.5,1e-3")
     [0.0, 0.5, 0.001]
+    >>> parse_times("0,0.5s,250ms,1 min")
+    [0.0, 0.5, 0.25, 60.0]
     >>> parse_times("1,abc")
     Traceback (most recent call last):
     ...
@@ -250,12 +263,33 @@ def _parse_time(item: str) -> float:
     try:
         value = float(item)
     except ValueError:
-        raise UsageError(f"--at: {item!r} is not a number (give times like 0,0.5,1)") from None
+        value = _with_unit(item, times_to_seconds, "give times like 0,0.5,1")
     if not math.isfinite(value):
         raise UsageError(f"--at: time must be finite, got {item!r}")
     if value < 0:
         raise UsageError(f"--at: time must be >= 0 (the solution holds for t >= 0), got {item!r}")
     return value
+
+
+def _with_unit(item: str, convert, example: str) -> float:
+    """An ``--at`` item with a unit, converted (seconds, rad/s), or a UsageError."""
+    try:
+        _, unit = split_unit(item, "--at")
+    except SceneError:
+        unit = ""
+    if not unit:
+        raise UsageError(f"--at: {item!r} is not a number ({example})")
+    try:
+        return float(convert(item))
+    except SceneError as exc:
+        raise UsageError(f"--at: {exc}") from None
+
+
+def _parse_frequency(item: str) -> float:
+    try:
+        return float(item)
+    except ValueError:
+        return _with_unit(item, frequencies_to_rad_per_second, "give frequencies like 1,2.5 or 1Hz,2Hz")
 
 
 def _check_dps(args: argparse.Namespace) -> None:
@@ -347,6 +381,8 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     scene = _scene_of(args)
     if args.forcing:
         scene = scene.with_forcing(_forcing_argument(scene, args.forcing))
+    if args.unit:
+        scene = in_length_unit(scene, args.unit)  # x in that unit
     chosen = _coordinates_of(scene, args.coordinates)
     if times is not None:
         _require_numbers(scene, "a table of values (--at)")
@@ -376,10 +412,11 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     else:
         lines += formula_lines(scene, list(solution.x), solution.conditions, pretty=args.pretty,
                                coordinates=chosen)
+    lines += [unit_note_text(scene)] if scene.units is not None else []
     print("\n".join(lines), file=out)
 
 
-def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr]:
+def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr | str]:
     """``--forcing`` values, one force per coordinate: all positional or all NAME=EXPR.
 
     Each expression is parsed here, so that an error names the coordinate or mass as the
@@ -389,7 +426,7 @@ def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr]:
     if any(named) and not all(named):
         raise UsageError("--forcing: give either one expression per coordinate or NAME=EXPR items, not both")
     parameters = {symbol.name: symbol for symbol in scene.parameters}
-    forces: list[sp.Expr] = [sp.Integer(0)] * scene.n
+    forces: list[sp.Expr | str] = [sp.Integer(0)] * scene.n
     if not all(named):
         if len(items) != scene.n:
             given = "once" if len(items) == 1 else f"{len(items)} times"
@@ -397,7 +434,7 @@ def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr]:
                              f"({', '.join(scene.names)}): give one expression per coordinate, "
                              f"or NAME=EXPR for some of them")
         for index, (name, text) in enumerate(zip(scene.names, items)):
-            forces[index] = parse_forcing(text, f"--forcing #{index + 1} ({name})", parameters)
+            forces[index] = _force(scene, text, f"--forcing #{index + 1} ({name})", parameters)
         return forces
     seen: set[int] = set()
     for item in items:
@@ -406,8 +443,14 @@ def _forcing_argument(scene: Scene, items: Sequence[str]) -> list[sp.Expr]:
         if index in seen:
             raise UsageError(f"--forcing: coordinate {scene.names[index]} is given twice")
         seen.add(index)
-        forces[index] = parse_forcing(text, f"--forcing {name.strip()}", parameters)
+        forces[index] = _force(scene, text, f"--forcing {name.strip()}", parameters)
     return forces
+
+
+def _force(scene: Scene, text: str, entry: str, parameters: dict[str, sp.Symbol]) -> sp.Expr | str:
+    """A ``--forcing`` expression parsed here, or for a scene with units kept as text
+    (``10*cos(3*t) N``) for ``Scene.with_forcing`` to read with its unit."""
+    return text.strip() if scene.units is not None else parse_forcing(text, entry, parameters)
 
 
 def _count(number: int, noun: str) -> str:
@@ -450,10 +493,13 @@ def _run_response(args: argparse.Namespace, out: TextIO) -> None:
     for k, mode in enumerate(modes(scene), start=1):
         zeta = "-" if mode.damping_ratio is None else f"{float(mode.damping_ratio):.6g}"
         shape = ", ".join(_format_complex(v) for v in mode.shape)
+        hertz = f"  f_n = {float(mode.natural_frequency_hz):.6g} Hz" if scene.units is not None else ""
         lines.append(f"{k:>4}  {float(mode.natural_frequency):>12.6g}  {zeta:>10}  "
-                     f"{float(mode.damped_frequency):>12.6g}  [{shape}]  ({mode.kind})")
+                     f"{float(mode.damped_frequency):>12.6g}  [{shape}]  ({mode.kind}){hertz}")
+    if scene.units is not None:
+        lines.append("omega in rad/s, f = omega/(2 pi) in Hz")
     if args.at is not None:
-        omegas = parse_times(args.at)
+        omegas = [_parse_frequency(item.strip()) for item in args.at.split(",")]
         H = frequency_response(scene, omegas)[:, :, args.force - 1]
         lines.append(f"amplitude per unit force on {scene.names[args.force - 1]}:")
         lines += _table_lines(scene.names, omegas, np.abs(H).T, TABLE_DIGITS, variable="omega")

@@ -26,8 +26,8 @@ from ..model.errors import SceneError
 from ..model.numbers import to_exact
 from ..model.scene import Scene
 from ..model.supports import support_columns
-from ..model.units import frequencies_to_rad_per_second
 from ..model.symbols import lam
+from ..model.units import frequencies_to_rad_per_second
 from ..numeric.first_order import float_matrix
 
 __all__ = ["omega", "frequency_response", "steady_state_amplitude", "transmissibility",

@@ -38,7 +38,10 @@ side, initial conditions among them or in ``[initial]``)::
     coordinates = ["x1", "x2"]     # optional: the column order Numbers may be TOML
 strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
 means ``1/5``); all go through :func:`laplace_springs.model.numbers.to_exact`, and no
-text is ever evaluated. A name in text is a parameter only if the ``[parameters]``
+text is ever evaluated. A value with a unit is a string (``m1 = "500 g"``,
+``k1 = ["wall", "m1", "2.5 N/cm"]``, ``x0 = ["5 cm", "3 cm"]``, ``m1 = "10*cos(3*t) N"``
+in ``[forcing]``; see :mod:`laplace_springs.model.units`); a top-level ``units = "SI"``
+declares bare numbers to be SI. A name in text is a parameter only if the ``[parameters]``
 table declares it; an undeclared name is an error, so a typo is never a symbol.
 Unknown keys are refused, to catch typos.
 
@@ -95,9 +98,9 @@ _FIRST_ROW = re.compile(r"^[ \t]*(M|A)[ \t]*=[ \t]*\[\s*\[([^\]]*)\]", re.M)
 
 _COMMON_KEYS = ("title", "layout", "description", "initial", "forcing", "parameters")
 _FORMS = {
-    "masses": ("masses", "springs", "dashpots", "support_motion"),
-    "matrices": ("matrices", "names"),
-    "normalized": ("normalized", "names"),
+    "masses": ("masses", "springs", "dashpots", "support_motion", "units"),
+    "matrices": ("matrices", "names", "units"),
+    "normalized": ("normalized", "names", "units"),
     "equations": ("equations",),
 }
 _FORM_TABLES = {"matrices": ("M", "C", "K"), "normalized": ("A", "B")}
@@ -185,6 +188,7 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
             layout=layout,
             parameters=parameters,
             support_motion=_table(data, "support_motion") or None,
+            units=data.get("units"),
         )
     matrices = _table(data, form)
     _check_keys(matrices, _FORM_TABLES[form], f"in [{form}]")
@@ -194,7 +198,7 @@ def _unforced_scene(data: Mapping[str, Any]) -> Scene:
     zeros = [0] * len(matrices[required]) if isinstance(matrices[required], list) else None
     x0, v0, names = initial.get("x0", zeros), initial.get("v0", zeros), _names(data)
     common: dict[str, Any] = {"x0": x0, "v0": v0, "names": names, "title": title, "layout": layout,
-                              "parameters": parameters}
+                              "parameters": parameters, "units": data.get("units")}
     if form == "matrices":
         return Scene.from_matrices(**matrices, **common)
     return Scene.from_normalized(**matrices, **common)

@@ -87,6 +87,8 @@ __all__ = [
     "registry",
     "spring_constant",
     "times_to_seconds",
+    "unit_note_latex",
+    "unit_note_text",
     "updated_entries",
     "value_latex",
 ]
@@ -99,6 +101,9 @@ MAX_UNIT_EXPONENT = 12
 _FACTOR_TOLERANCE = 1e-12
 #: Text that cannot hold a unit (digits, decimal points, exponents, operators).
 _PLAIN_TEXT = re.compile(r"[\s0-9.eE+\-*/()^]*")
+#: What a unit text may contain before pint sees it: letters (µ, Å, Ω too), digits, spaces,
+#: ``* / ^ ( ) . - _ · ° %``; quotes, brackets, commas and colons never reach pint's parser.
+_UNIT_TEXT = re.compile(r"[\w\s*/^().\-·⋅−°%]+")
 _INSTALL = "pip install 'laplace_springs[units]'"
 
 
@@ -324,12 +329,15 @@ def parse_unit(text: str) -> Unit:
 def _resolve(reg: Any, text: str) -> Unit:
     import pint
 
+    if not _UNIT_TEXT.fullmatch(text):
+        raise _UnitProblem("a unit is letters, digits, spaces and * / ^ ( ) . - only")
     normalised = text.replace("·", "*").replace("⋅", "*").replace("−", "-")
     try:
         units = reg.parse_units(normalised)
         root_float, _ = reg.get_root_units(units)
-    except (pint.PintError, ValueError, TypeError, SyntaxError, AttributeError, KeyError) as exc:
-        raise _UnitProblem(f"not a unit pint knows ({exc})") from None
+    except (pint.PintError, ValueError, TypeError, SyntaxError, AttributeError, KeyError,
+            AssertionError) as exc:  # pint's expression builder asserts on some malformed text
+        raise _UnitProblem(f"not a unit pint knows ({exc})" if str(exc) else "not a unit pint knows") from None
     except Exception as exc:  # the tokenizer's TokenError for unbalanced brackets
         if type(exc).__name__ != "TokenError":
             raise
@@ -585,8 +593,8 @@ class _Reader:
             items = list(items[0])
         elif any(nested):
             return value
-        converted = [self.leaf(item, f"{name}[{i}]", kind, expression) for i, item in enumerate(items)]
-        return value if all(a is b for a, b in zip(converted, items)) else converted
+        entries = [self.leaf(item, f"{name}[{i}]", kind, expression) for i, item in enumerate(items)]
+        return value if all(a is b for a, b in zip(entries, items)) else entries
 
     def masses(self, value: Any, kind: Kind) -> Any:
         if isinstance(value, Mapping):
@@ -937,23 +945,32 @@ def in_length_unit(scene: Any, unit: str) -> Any:
         units=dataclasses.replace(record, length=unit))
 
 
-#: Axis titles of the quantities plots show, and the unit each takes from a scene.
-_AXES = {"time": ("Time", "s"), "position": ("Position", "{L}"), "velocity": ("Velocity", "{L}/s"),
-         "energy": ("Energy", "J"), "frequency": ("Frequency", "rad/s"),
-         "receptance": ("Amplitude per unit force", "{L}/N")}
+#: Axis titles of the quantities plots show: (title, unit in a scene with units, unit
+#: without). ``{L}`` is the scene's length unit.
+_AXES = {"time": ("Time", "s", ""), "position": ("Position", "{L}", ""),
+         "velocity": ("Velocity", "{L}/s", ""), "energy": ("Energy", "J", ""),
+         "frequency": ("Frequency", "rad/s", ""),
+         "receptance": ("Amplitude per unit force", "{L}/N", ""),
+         "receptance_db": ("Magnitude", "dB re 1 {L}/N", "dB"),
+         "rate": ("Re s", "1/s", ""), "angular_rate": ("Im s", "rad/s", "")}
 
 
-def axis_label(quantity: str, scene: Any = None, unit: str | None = None) -> str:
+def axis_label(quantity: str, scene: Any = None, unit: str | None = None, *,
+               title: str | None = None) -> str:
     """The axis label of a quantity: ``"Time (s)"``, ``"Position (cm)"``, or ``"Time"``.
 
     Parameters
     ----------
-    quantity : {"time", "position", "velocity", "energy", "frequency", "receptance"}
+    quantity : str
+        One of ``"time"``, ``"position"``, ``"velocity"``, ``"energy"``, ``"frequency"``,
+        ``"receptance"``, ``"receptance_db"``, ``"rate"``, ``"angular_rate"``.
     scene : Scene, optional
         A scene with units gives the unit (its length unit for positions); a scene
-        without units gives none (its numbers are in whatever units its author used).
+        without units gives none: its numbers are in whatever units its author used.
     unit : str, optional
         The unit to write, whatever the scene.
+    title : str, optional
+        The words before the unit (default: the quantity's, e.g. ``"Time"``).
 
     Examples
     --------
@@ -963,32 +980,69 @@ def axis_label(quantity: str, scene: Any = None, unit: str | None = None) -> str
     ('Time (s)', 'Position (m)', 'Velocity (m/s)')
     >>> axis_label("position", ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
     'Position'
-    >>> axis_label("position", unit="cm")
-    'Position (cm)'
+    >>> axis_label("position", unit="cm"), axis_label("frequency", scene, title="driving frequency ω")
+    ('Position (cm)', 'driving frequency ω (rad/s)')
     """
-    title, template = _AXES[quantity]
+    default_title, template, without = _AXES[quantity]
     record = getattr(scene, "units", None)
-    if unit is None and record is not None:
-        unit = template.replace("{L}", record.length)
-        if quantity == "energy" and record.length != "m":
+    if unit is None:
+        unit = without if record is None else template.replace("{L}", record.length)
+        if record is not None and quantity == "energy" and record.length != "m":
             unit = f"kg·{record.length}²/s²"
-    return f"{title} ({unit})" if unit else title
+    words = default_title if title is None else title
+    return f"{words} ({unit})" if unit else words
+
+
+def unit_note_latex(scene: Any) -> list[str]:
+    """The row saying the units of x and t, for LaTeX answers of a scene with units.
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> unit_note_latex(ls.Scene.from_matrices(M=[["1 kg"]], K=[["4 N/m"]], x0=["5 cm"], v0=[0]))
+    ['&\\\\text{with } x \\\\text{ in m and } t \\\\text{ in s}']
+    >>> unit_note_latex(ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
+    []
+    """
+    record = getattr(scene, "units", None)
+    if record is None:
+        return []
+    return [rf"&\text{{with }} x \text{{ in {record.length} and }} t \text{{ in s}}"]
+
+
+def unit_note_text(scene: Any) -> str:
+    """The line saying the units of x and t, for text answers (empty without units).
+
+    >>> import laplace_springs as ls
+    >>> unit_note_text(ls.Scene.from_matrices(M=[["1 kg"]], K=[["4 N/m"]], x0=["5 cm"], v0=[0]))
+    'x in m, t in s'
+    """
+    record = getattr(scene, "units", None)
+    return "" if record is None else f"x in {record.length}, t in s"
 
 
 def value_latex(value: sympy.Expr, kind: str, scene: Any) -> str:
-    """A value as LaTeX, with its SI unit when the scene has units (``200\\,\\mathrm{N/m}``).
+    """A value as LaTeX, with its unit when the scene has units (``200\\,\\mathrm{N/m}``).
+
+    ``kind`` is a name of :data:`KINDS` (``"displacement"`` is a length); lengths and
+    velocities take the scene's length unit, the rest SI.
 
     Examples
     --------
     >>> import laplace_springs as ls
     >>> scene = ls.Scene.from_matrices(M=[["1 kg"]], K=[["4 N/m"]], x0=["5 cm"], v0=[0])
-    >>> value_latex(sympy.Integer(200), "stiffness", scene)
-    '200\\\\,\\\\mathrm{N/m}'
+    >>> value_latex(sympy.Integer(200), "stiffness", scene), value_latex(sympy.Rational(1, 20), "displacement", scene)
+    ('200\\\\,\\\\mathrm{N/m}', '\\\\frac{1}{20}\\\\,\\\\mathrm{m}')
+    >>> value_latex(sympy.Integer(200), "stiffness", None)
+    '200'
     """
-    text = sympy.latex(value)
-    if getattr(scene, "units", None) is None:
+    text = str(sympy.latex(value))
+    record = getattr(scene, "units", None)
+    if record is None:
         return text
-    unit = KINDS[kind].si.replace("*", r"\cdot ").replace("**2", "^2")
+    unit = KINDS["length" if kind == "displacement" else kind].si
+    unit = unit.replace("m", record.length, 1) if kind in ("displacement", "length", "velocity") else unit
+    unit = unit.replace("*", r"\cdot ").replace("**2", "^2")
     return rf"{text}\,\mathrm{{{unit}}}"
 
 

@@ -26,6 +26,7 @@ from ..model.components import Component
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
 from ..model.scene import Scene
+from ..model.units import value_latex
 
 __all__ = ["Chain", "chain_of", "physical_matrices", "math_label", "value_text"]
 
@@ -273,7 +274,7 @@ def value_text(value: Any, quantity: str, scene: Scene | None = None) -> str:
     """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {quantity!r}")
-    return str(sp.latex(to_exact(value, quantity)))
+    return value_latex(to_exact(value, quantity), quantity, scene)  # with its unit, if any
 
 
 # ----------------------------------------------------------------------------

@@ -57,6 +57,7 @@ from ..exact.resolvent import Resolvent
 from ..exact.sylvester import FunctionName, matrix_function_terms, sylvester_matrices
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from ..model.units import unit_note_latex
 from ..numeric.mp_expr import numeric_value
 from .named_terms import NamedConstants, NamedTerms, reading_order
 
@@ -546,6 +547,7 @@ def solution_latex(motion: ExactMotion, *, form: str = "terms", resolvent: bool 
     writer.blocks.append(_motion_rows(writer, motion, form))
     writer.notes += [rf"&\text{{valid for }} {condition.latex()}"
                      for condition in getattr(motion, "generic_conditions", ())]
+    writer.notes += unit_note_latex(motion.scene)  # "with x in m and t in s"
     if resolvent:
         writer.blocks.append(_resolvent_rows(motion.resolvent))
     if sylvester:
@@ -677,6 +679,7 @@ def matrix_latex(scene: Scene, x: sp.MatrixBase, *, standalone: bool = False,
     """
     rows = [row for name, e in zip(scene.names, x)
             for row in _equation_rows(f"{latex_name(name)}(t)", sp.sympify(e, strict=True))]
+    rows += unit_note_latex(scene)
     output: Output = "document" if standalone else "markdown" if markdown else "fragment"
     blocks = [_aligned(rows)]
     if output == "markdown":

@@ -33,6 +33,7 @@ from ..analysis.modes import modes
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from ..model.units import axis_label
 from ..numeric.first_order import float_matrix
 from .drawing import draw_scene, math_label, physical_matrices
 
@@ -316,7 +317,7 @@ def _title(ax: Axes, heading: str, scene: Scene, title: str | bool) -> None:
 
 
 def plot_motion(solution: Motion, ax: Axes | None = None, *, t_end: float | None = None,
-                samples: int = 800, time_unit: str = "s", length_unit: str = "m",
+                samples: int = 800, time_unit: str | None = None, length_unit: str | None = None,
                 title: str | bool = True) -> Axes:
     """The seed's "Mass Position vs. Time" plot: x_i(t) for each mass.
 
@@ -330,8 +331,10 @@ def plot_motion(solution: Motion, ax: Axes | None = None, *, t_end: float | None
         Last time; :func:`default_t_end` when omitted.
     samples : int
         Minimum number of sample times (more for fast oscillations).
-    time_unit, length_unit : str
-        Units in the axis labels ("Time (s)", "Position (m)").
+    time_unit, length_unit : str, optional
+        Units in the axis labels ("Time (s)", "Position (m)"). By default those of a
+        scene with units (:func:`laplace_springs.model.units.axis_label`); a scene
+        without units gets none ("Time", "Position").
     title : str or bool
         True for "Mass Position vs. Time" and the scene's title.
 
@@ -345,7 +348,11 @@ def plot_motion(solution: Motion, ax: Axes | None = None, *, t_end: float | None
     >>> import laplace_springs as ls
     >>> ax = plot_motion(ls.solve(ls.load_scene("three-dashpots")), Figure().subplots())
     >>> ax.get_xlabel(), ax.get_ylabel(), [t.get_text() for t in ax.get_legend().texts]
-    ('Time (s)', 'Position (m)', ['Mass 1: $x_{1}(t)$', 'Mass 2: $x_{2}(t)$'])
+    ('Time', 'Position', ['Mass 1: $x_{1}(t)$', 'Mass 2: $x_{2}(t)$'])
+    >>> in_units = ls.Scene.from_matrices(M=[["1 kg"]], K=[["4 N/m"]], x0=["5 cm"], v0=[0])
+    >>> ax = plot_motion(ls.solve(in_units), Figure().subplots())
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('Time (s)', 'Position (m)')
     """
     ax = _axes(ax)
     times = time_grid(solution, t_end, samples)
@@ -354,8 +361,8 @@ def plot_motion(solution: Motion, ax: Axes | None = None, *, t_end: float | None
         ax.plot(times, row, linewidth=LINE_WIDTH, label=name)
     ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.set_xlim(times[0], times[-1])
-    ax.set_xlabel(f"Time ({time_unit})")
-    ax.set_ylabel(f"Position ({length_unit})")
+    ax.set_xlabel(axis_label("time", solution.scene, time_unit))
+    ax.set_ylabel(axis_label("position", solution.scene, length_unit))
     _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Mass Position vs. Time", solution.scene, title)
@@ -364,7 +371,8 @@ def plot_motion(solution: Motion, ax: Axes | None = None, *, t_end: float | None
 
 def plot_phase(solution: Motion, ax: Axes | None = None, *, t_end: float | None = None,
                samples: int = 800, coordinates: Sequence[int] | None = None,
-               time_unit: str = "s", length_unit: str = "m", title: str | bool = True) -> Axes:
+               time_unit: str | None = None, length_unit: str | None = None,
+               title: str | bool = True) -> Axes:
     """Phase portraits: velocity x_i'(t) against position x_i(t), from a dot at t = 0.
 
     The parameters other than ``coordinates`` are those of :func:`plot_motion`.
@@ -384,7 +392,7 @@ def plot_phase(solution: Motion, ax: Axes | None = None, *, t_end: float | None 
     >>> import laplace_springs as ls
     >>> ax = plot_phase(ls.solve(ls.load_scene("wall-pair-dashpot")), Figure().subplots())
     >>> ax.get_xlabel(), ax.get_ylabel()
-    ('Position (m)', 'Velocity (m/s)')
+    ('Position', 'Velocity')
     """
     ax = _axes(ax, (6.0, 5.0))
     times = time_grid(solution, t_end, samples)
@@ -396,8 +404,11 @@ def plot_phase(solution: Motion, ax: Axes | None = None, *, t_end: float | None 
         ax.plot(x[i, 0], v[i, 0], "o", color=line.get_color(), markersize=7)
     ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
-    ax.set_xlabel(f"Position ({length_unit})")
-    ax.set_ylabel(f"Velocity ({length_unit}/{time_unit})")
+    record = solution.scene.units
+    length = length_unit or (record.length if record is not None else "m")
+    velocity = None if time_unit is None and length_unit is None else f"{length}/{time_unit or 's'}"
+    ax.set_xlabel(axis_label("position", solution.scene, length_unit))
+    ax.set_ylabel(axis_label("velocity", solution.scene, velocity))
     _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Phase portrait (dot: t = 0)", solution.scene, title)
@@ -405,7 +416,7 @@ def plot_phase(solution: Motion, ax: Axes | None = None, *, t_end: float | None 
 
 
 def plot_energy(solution: Motion, ax: Axes | None = None, *, t_end: float | None = None,
-                samples: int = 800, time_unit: str = "s", energy_unit: str = "J",
+                samples: int = 800, time_unit: str | None = None, energy_unit: str | None = None,
                 title: str | bool = True) -> Axes:
     """Kinetic, potential and dissipated energy over time, and their constant sum.
 
@@ -439,8 +450,8 @@ def plot_energy(solution: Motion, ax: Axes | None = None, *, t_end: float | None
     ax.set_xlim(times[0], times[-1])
     if not forced:
         ax.set_ylim(bottom=0.0)
-    ax.set_xlabel(f"Time ({time_unit})")
-    ax.set_ylabel(f"Energy ({energy_unit})")
+    ax.set_xlabel(axis_label("time", solution.scene, time_unit))
+    ax.set_ylabel(axis_label("energy", solution.scene, energy_unit))
     _legend(ax)
     ax.grid(alpha=0.3)
     _title(ax, "Energy", solution.scene, title)
@@ -529,9 +540,9 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
         amp_ax.plot([peak] * len(rows), amplitudes, "o", color="0.25", markersize=4)
         amp_ax.text(peak, 0.03, f" ω = {peak:.4g}", transform=amp_ax.get_xaxis_transform(),
                     rotation=90, va="bottom", ha="right", fontsize=8, color="0.3")
-    amp_ax.set_ylabel("amplitude per unit force (m/N)")
+    amp_ax.set_ylabel(axis_label("receptance", scene, title="amplitude per unit force"))
     phase_ax.set_ylabel("phase (degrees)")
-    phase_ax.set_xlabel("driving frequency ω (rad/s)")
+    phase_ax.set_xlabel(axis_label("frequency", scene, title="driving frequency ω"))
     amp_ax.set_title(f"Frequency response, unit force on {scene.names[force]}")
     amp_ax.legend(loc="best", fontsize=8)
     amp_ax.grid(True, which="both", alpha=0.3)
@@ -705,7 +716,7 @@ def plot_bode(scene: Scene, omegas: Any = None, *, force: int = 0,
     >>> from laplace_springs.model.scene_files import load_scene
     >>> fig = plot_bode(load_scene("three-dashpots"))
     >>> [a.get_xscale() for a in fig.axes], [a.get_ylabel() for a in fig.axes]
-    (['log', 'log'], ['magnitude (dB re 1 m/N)', 'phase (degrees)'])
+    (['log', 'log'], ['magnitude (dB)', 'phase (degrees)'])
     """
     w, peaks, magnitude, phase = _bode(scene, omegas, force, outputs)
     rows = list(range(scene.n) if outputs is None else outputs)
@@ -724,9 +735,9 @@ def plot_bode(scene: Scene, omegas: Any = None, *, force: int = 0,
     for peak in peaks[(peaks >= w.min()) & (peaks <= w.max())]:
         for axis in (mag_ax, phase_ax):
             axis.axvline(peak, color="0.6", linestyle="--", linewidth=0.8)
-    mag_ax.set_ylabel("magnitude (dB re 1 m/N)")
+    mag_ax.set_ylabel(axis_label("receptance_db", scene, title="magnitude"))
     phase_ax.set_ylabel("phase (degrees)")
-    phase_ax.set_xlabel("frequency ω (rad/s)")
+    phase_ax.set_xlabel(axis_label("frequency", scene, title="frequency ω"))
     mag_ax.set_title(f"Bode plot, unit force on {source}")
     mag_ax.legend(loc="best", fontsize=8)
     for axis in (mag_ax, phase_ax):
@@ -787,8 +798,8 @@ def plot_pole_zero(scene: Scene, *, force: int = 0, output: int = 0, ax: Axes | 
                 ax.annotate(f"{count}", (value.real, value.imag), textcoords="offset points",
                             xytext=(6, 6), fontsize=9)
     names = scene.names
-    ax.set_xlabel("Re s (1/s)")
-    ax.set_ylabel("Im s (rad/s)")
+    ax.set_xlabel(axis_label("rate", scene))
+    ax.set_ylabel(axis_label("angular_rate", scene))
     ax.set_title(f"Poles and zeros of G[{names[output]}, {names[force]}]"
                  + (f"\n{scene.title}" if scene.title else ""))
     ax.legend(loc="best", fontsize=8)
