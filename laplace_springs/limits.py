@@ -148,6 +148,10 @@ class Limits:
     #: with K take ≈ 1.5e-8 s per unit (measured), so 2e8 is ≈ 3 s per refinement step
     #: (a dense K of ≈ 600 coordinates; a 4,000-mass chain is 6e7).
     refined_max_products: int = 200_000_000
+    #: Largest dense K (rows wider than 2·banded_max_bandwidth + 1) the refined engine
+    #: takes: each refinement step costs 13 float64 n x n products and the float64
+    #: decomposition a dense eigh.
+    refined_dense_max_coordinates: int = 2_000
     #: Highest derivative order the refined engine bounds (each order multiplies the
     #: initial-data term of its bound by about ‖M⁻¹K‖).
     refined_max_order: int = 4

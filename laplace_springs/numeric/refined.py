@@ -10,14 +10,18 @@ to 1e-30, by 1e-24. This engine therefore
 1. takes the float64 eigenpairs of K φ = θ M φ (tridiagonal, banded or dense, as
    :mod:`~laplace_springs.numeric.classical` computes them);
 2. refines them (Ogita & Aishima's iteration, generalised to the pencil (K, M)): the
-   residuals R = KΦ − MΦΘ are formed in double-double from the exact (rational) entries,
-   rounded to float64 and projected, W = Φᵀ R (a float64 product: R is tiny, so its
-   relative error costs nothing), and Φ ← Φ(I + E) with E_kj = W_kj/(θ_j − θ_k) outside
-   clusters and E_jj = (1 − φ_jᵀMφ_j)/2; θ_j ← the Rayleigh quotient. Clusters (θ closer
-   than ``Limits.close_poles`` · max θ: identical sub-chains, rigid modes θ = 0) keep their
+   residuals R = KΦ − MΦΘ are formed in double-double from the exact (rational) entries
+   (a sparse K by its rows' few nonzeros; a dense K by error-free slices multiplied by
+   float64 BLAS, Ozaki's scheme), rounded to float64 and projected, W = Φᵀ R (a float64
+   product: R is tiny, so its relative error costs nothing), and Φ ← Φ(I + E) with
+   E_kj = W_kj/(θ_j − θ_k) outside clusters and E_jj = (1 − φ_jᵀMφ_j)/2; θ_j ← the
+   Rayleigh quotient. Clusters (frequencies √θ closer than ``Limits.close_poles`` · max √θ,
+   the package's rule for close poles: identical sub-chains, rigid modes θ = 0) keep their
    invariant subspace and are diagonalised in it by a Rayleigh–Ritz step at 40 digits
    (mpmath), on K + γC so that damping that differs inside an eigenspace of K is
-   diagonalised too. Two or three steps bring the residuals to the double-double level;
+   diagonalised too. Two or three steps bring the residuals to the double-double level.
+   The rigid modes of free parts of a spring network (K·1_c = 0 exactly) are taken as
+   the exact null vectors 1_c/√m_c, whose residual is exactly zero;
 3. holds θ_j, c_j = φ_jᵀCφ_j/φ_jᵀMφ_j, hence h_j = c_j/2 and the damped frequency
    √(θ_j − h_j²), as double-doubles, and the modal initial data q(0), q'(0) solved from
    Φ q = x0, v0 to double-double accuracy;
@@ -47,10 +51,10 @@ M-orthogonality). Hence
     √E(t) ≤ e^{ρt}(√E(0) + t·sup_{s≤t} ‖r(s)‖_{M⁻¹}),    ‖e(t)‖_M ≤ √E(t)/√s,
 
 and, when K is proved positive semi-definite (rigid modes: θ_low ≤ 0), also
-‖e(t)‖_M ≤ ‖e(0)‖_M + t·sup √E (σ = 0); the smaller bound is taken. The sup of each |q̃_j|
+‖e(t)‖_M ≤ ‖e(0)‖_M + ∫₀ᵗ √E (σ = 0); the smallest bound is taken. The sup of each |q̃_j|
 over [0, t] is read from its closed form (amplitude √(u² + w²/ω²), growth e^{max(0,Re λ)t}).
 A derivative of order k is bounded the same way: e^(k) solves the same equation with
-r^(k), and its initial data follow from the equation. Added to this: the float64
+r^(k), its initial data follow from the equation, and ‖e^(k)‖_M ≤ √E of e^(k−1). Added to this: the float64
 rounding of each q̂_j (phase, exponentials, products; the phase error is |ωt|·O(u²))
 and of the sums (γ_b per block of b modes, the compensated block sum, the dropped Φ_lo).
 With residuals at u²‖K‖ ≈ 1e-32 the first part stays below 1e-20 of the data at
@@ -66,21 +70,27 @@ cluster and are never divided by their gap. A cluster larger than
 ``Limits.refined_max_cluster`` is diagonalised in pieces; if its eigenvalues differ, its
 residuals stay at the float64 level, and the bound says so (it grows like t·residual).
 Wide spreads of stiffness (1e-6 … 1e6) refine like any other scene: the residual is
-relative to |K||φ|, and the bound's θ_low may be lost to the spread, leaving the
-velocity form of the bound (error ∝ t²·residual, still ≈ 1e-18 at t = 10⁴).
+relative to |K||φ| (16 masses, springs 1e-6 … 1e6: bound 2e-15 at t = 10⁶). A rigid
+mode that is not an exact null vector found as above keeps a residual of ≈ u²‖K‖ that
+its growing amplitude feeds: the bound then grows like t³·u²‖K‖ (still ≤ 1e-13 of a
+unit motion to t ≈ 10⁷). Damping that makes C indefinite, and stiffness that makes K
+indefinite, give bounds that grow like the motion may (e^{ρt}).
 
 Cost
 ----
 Independent of t. Building: the float64 decomposition, then per refinement step two
 float64 products of n x n matrices (W = ΦᵀR and ΦE) and one double-double product with
-each of K and M (time ∝ n·nonzeros), plus a final certificate (the residuals with C, the
-loss of orthogonality ΦᵀMΦ, the modal initial data). Per time: the modal functions
-(O(n)) and x = Φq (O(n²), in blocks). See :func:`refined_cost` for the measured model.
+each of K and M (time ∝ n·nonzeros; 13 float64 n x n products for a dense K), plus a
+final certificate (the residuals with C, the loss of orthogonality ΦᵀMΦ, the modal
+initial data). Per time: the modal functions (O(n)) and x = Φq (O(n²), in blocks).
+See :func:`refined_cost` for the measured model.
 
 References: T. Ogita and K. Aishima, "Iterative refinement for symmetric eigenvalue
 decomposition", Japan J. Indust. Appl. Math. 35 (2018) and part II (clustered
 eigenvalues, 2019); T. Ogita, S. M. Rump and S. Oishi, "Accurate sum and dot product",
-SIAM J. Sci. Comput. 26 (2005).
+SIAM J. Sci. Comput. 26 (2005); K. Ozaki, T. Ogita, S. Oishi and S. M. Rump, "Error-free
+transformations of matrix multiplication by using fast routines of matrix
+multiplication", Numer. Algorithms 59 (2012).
 """
 
 from __future__ import annotations
@@ -99,7 +109,16 @@ from ..kernels.dd import U, dd_add, dd_div, dd_mul, dd_sqrt, dd_sum, phase, two_
 from ..limits import limits
 from ..model.errors import InternalError
 from ..model.scene import Scene
-from .classical import _eigen, classical_damping, mode_poles, symmetric_scene
+from .classical import (
+    ModalForm,
+    SymmetricScene,
+    _eigen,
+    _modal_form,
+    _ModeData,
+    classical_damping,
+    mode_poles,
+    symmetric_scene,
+)
 from .first_order import rational_entries, scene_entries
 from .times import Times
 
@@ -154,15 +173,32 @@ def refined_refusal(scene: Scene, *, t_max: float, count: int, order: int) -> st
         return f"coordinates {scene.n:,} > Limits.refined_max_coordinates = {lim.refined_max_coordinates:,}"
     if not classical_damping(scene):
         return "the damping is not classical (C M⁻¹K ≠ K M⁻¹C), or M is singular or not rational"
+    if _dense_stiffness(scene):
+        if scene.n > lim.refined_dense_max_coordinates:
+            return (f"a dense K of {scene.n:,} coordinates > Limits.refined_dense_max_coordinates = "
+                    f"{lim.refined_dense_max_coordinates:,}")
+        return None
     work = scene.n * _stored_entries(scene)
     if work > lim.refined_max_products:
         return (f"its double-double products take n·nonzeros = {work:,} > "
-                f"Limits.refined_max_products = {lim.refined_max_products:,} (K is too dense)")
+                f"Limits.refined_max_products = {lim.refined_max_products:,}")
     return None
 
 
 def _stored_entries(scene: Scene) -> int:
     return sum(len(scene_entries(scene, name)) for name in ("M", "C", "K"))
+
+
+def _row_width(scene: Scene, name: str) -> int:
+    """The largest number of nonzero entries in a row of ``scene.<name>``."""
+    rows = np.array([i for i, _ in scene_entries(scene, name)], dtype=np.int64)
+    return int(np.max(np.bincount(rows), initial=0)) if rows.size else 0
+
+
+def _dense_stiffness(scene: Scene) -> bool:
+    """Whether K is multiplied as a dense matrix (rows wider than a band of
+    2·Limits.banded_max_bandwidth + 1)."""
+    return _row_width(scene, "K") > 2 * limits().banded_max_bandwidth + 1
 
 
 def refined_cost(scene: Scene, *, t_max: float, count: int, order: int) -> float:
@@ -219,7 +255,7 @@ def _pair(entry: Any) -> tuple[float, float]:
             return hi, 0.0
         return hi, float(Fraction(num, den) - Fraction(hi))
     with mpmath.workdps(40):
-        value = mpmath.mpf(sp.Float(entry, 40)._mpf_)
+        value = mpmath.mpf(sp.N(entry, 40)._mpf_)
         hi = float(value)
         return hi, float(value - hi)
 
@@ -995,6 +1031,9 @@ class RefinedMotion:
         Coordinates.
     """
 
+    #: The engine's name in the planner's vocabulary (``Solution.method``).
+    engine = "refined"
+
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
         self.n = scene.n
@@ -1005,23 +1044,29 @@ class RefinedMotion:
         return _exact_data(self.scene)
 
     @cached_property
-    def modes(self) -> _Modes:
-        """The refined modes and the constants of the bound (built on first use)."""
+    def data(self) -> SymmetricScene:
+        """The float64 data of the scene (as :mod:`~laplace_springs.numeric.classical` reads it)."""
+        return symmetric_scene(self.scene)
+
+    @cached_property
+    def refined(self) -> _Modes:
+        """The refined modes (double-doubles) and the constants of the bound (built on
+        first use)."""
         ex = self._exact
-        theta, phi = _eigen(symmetric_scene(self.scene))
+        theta, phi = _eigen(self.data)
         pairs = _refine(ex, np.asarray(theta, dtype=float), np.asarray(phi, dtype=float))
         _exact_rigid_modes(ex, pairs, _free_components(self.scene))
         return _certify(ex, pairs)
 
     @cached_property
     def _scalars(self) -> _Scalars:
-        return _scalars(self.modes)
+        return _scalars(self.refined)
 
     @cached_property
     def _blocks(self) -> tuple[np.ndarray, int]:
         """Φ_hi as (blocks, n, b), contiguous, zero columns padding the last block."""
         b = max(1, limits().refined_sum_block)
-        P = self.modes.Ph
+        P = self.refined.Ph
         m = P.shape[1]
         count = max(1, -(-m // b))
         padded = np.zeros((P.shape[0], count * b))
@@ -1037,14 +1082,37 @@ class RefinedMotion:
         v0 = float(np.max(np.abs(ex.v0[0]), initial=0.0))
         return x0 + (v0 / rho if rho > 0 else 0.0)
 
+    @property
+    def modes(self) -> _ModeData:
+        """(θ, c, Φ): stiffness and damping of each mode and the M-orthonormal shapes
+        (the float64 parts of the refined values)."""
+        m = self.refined
+        return _ModeData(m.th, m.ch, m.Ph)
+
+    @property
+    def has_zero_frequency(self) -> bool:
+        """Whether some mode is rigid (θ = 0 to working precision): served here, unlike
+        the float64 eigen route."""
+        theta = self.refined.th
+        return bool(theta.size) and float(np.min(theta)) <= 64 * U * self.n * float(np.max(np.abs(theta)))
+
+    def modal_form(self) -> ModalForm:
+        """x(t) as a :class:`~laplace_springs.numeric.classical.ModalForm` (float64 terms)."""
+        m = self.refined
+        return _modal_form(m.th, m.ch, m.Ph, m.q0[0], m.dq0[0])
+
+    def closed_form(self) -> sp.ImmutableMatrix:
+        """x(t) as a SymPy column with Float coefficients."""
+        return self.modal_form().as_matrix()
+
     def poles(self) -> np.ndarray:
         """λ = −h ± i√δ (underdamped), the two real roots otherwise, for every mode."""
-        m = self.modes
+        m = self.refined
         return mode_poles(m.th, m.ch)
 
     def _coefficients(self, order: int) -> tuple[np.ndarray, ...]:
         if order not in self._coefficient_cache:
-            self._coefficient_cache[order] = _coefficients(self.modes, order)
+            self._coefficient_cache[order] = _coefficients(self.refined, order)
         return self._coefficient_cache[order]
 
     def evaluate(self, times: Times, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -1094,11 +1162,15 @@ class RefinedMotion:
         padded = np.zeros(blocks.shape[0] * b)
         padded[: len(q)] = q
         partial = np.matmul(blocks, padded.reshape(blocks.shape[0], b, 1))[:, :, 0]
-        x, _ = dd_sum(partial, np.zeros_like(partial))
+        x, err = partial[0].copy(), np.zeros(len(partial[0]))
+        for row in partial[1:]:  # Sum2: |x − Σ partial| ≤ u|x| + γ²_{blocks}·Σ|partial|
+            x, sigma = two_sum(x, row)
+            err += sigma
+        x = x + err
         terms = min(b, len(q))
         gamma = _gamma(terms) + U * (1 + _gamma(terms)) + _gamma(2 * blocks.shape[0]) ** 2
         with np.errstate(over="ignore", invalid="ignore"):
-            rounding = float(np.dot(self.modes.colmax, gamma * np.abs(q) + eps)) * _UP
+            rounding = float(np.dot(self.refined.colmax, gamma * np.abs(q) + eps)) * _UP
             scale = max(float(np.max(np.abs(x), initial=0.0)), self._scale if order == 0 else 0.0)
             goal = target * scale / 2
             if rounding <= goal:
@@ -1107,7 +1179,7 @@ class RefinedMotion:
 
     def _sharper(self, q: np.ndarray, eps: np.ndarray, energy: float, x: np.ndarray,
                  gamma: float, goal: float) -> tuple[np.ndarray, np.ndarray]:
-        m = self.modes
+        m = self.refined
         P = np.abs(m.Ph)
         widen = 1 + 2 * _gamma(P.shape[1] + 1)
         with np.errstate(over="ignore", invalid="ignore"):
@@ -1136,7 +1208,7 @@ class RefinedMotion:
 
     def _forcing(self, order: int, supC: np.ndarray, supS: np.ndarray) -> np.ndarray:
         """sup_{s≤t} ‖r^(order)(s)‖_{M⁻¹} ≤ Σ_j ρK_j sup|q̃_j^(order)| + ρC_j sup|q̃_j^(order+1)|."""
-        m, s = self.modes, self._scalars
+        m, s = self.refined, self._scalars
         forcing = np.zeros(supC.shape[1])
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             frequency = np.where(s.under & (s.wh > 0), s.wh, np.inf)[:, None]
@@ -1152,7 +1224,7 @@ class RefinedMotion:
 
     def _initial_errors(self, order: int) -> tuple[float, float]:
         """‖e^(order)(0)‖_M and ‖e^(order+1)(0)‖_M: M e^(j+2) = r^(j) − C e^(j+1) − K e^(j)."""
-        m, ex = self.modes, self._exact
+        m, ex = self.refined, self._exact
         errors = [m.e0, m.e1]
         for j in range(order):
             u, _, err_u, _ = self._coefficients(j)
@@ -1165,7 +1237,7 @@ class RefinedMotion:
                       e_k1: float) -> tuple[np.ndarray, np.ndarray]:
         """Bounds on ‖y(t)‖_M and ‖y'(t)‖_M for y = e^(k), M y'' + C y' + K y = r^(k), from
         the applicable forms of its energy (module notes): the smallest of each."""
-        m, ex = self.modes, self._exact
+        m, ex = self.refined, self._exact
         position = np.full(len(t), math.inf)
         velocity = np.full(len(t), math.inf)
         with np.errstate(over="ignore", invalid="ignore"):

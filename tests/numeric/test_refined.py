@@ -182,12 +182,12 @@ def test_chain200_long_horizon_against_the_analytic_modes(chain200):
     reference = uniform_chain_reference(200, [0, 1e5, 1e6, 1e9, Fraction("1000000.1")])
     check(values, bounds, reference, 1.0)
     assert np.max(np.abs(values - reference)) <= 1e-15
-    assert chain200.modes.residual <= 1e-29  # refined to the double-double level
+    assert chain200.refined.residual <= 1e-29  # refined to the double-double level
 
 
 def test_chain200_residual_term_is_negligible_at_long_times(chain200):
     """The bound's residual part (∝ t) stays far below the float64 sums at t = 1e9."""
-    m = chain200.modes
+    m = chain200.refined
     assert np.max(m.rho_K) < 1e-28 and m.e0 < 1e-26 and m.theta_low > 2.4e-4
     s = chain200._scalars
     _, _, _, _, supC, supS = refined._closed_forms(s, np.array([1e9]), np.array([0.0]))
@@ -255,8 +255,8 @@ def test_two_identical_free_free_chains_to_1e9():
     values, bounds = motion.evaluate(as_times(times), 0)
     reference = modal_reference(M, C, K, x0, v0, times)
     check(values, bounds, reference, contract_scale(reference, x0, v0, motion.poles()))
-    assert len(motion.modes.th) == 18 and np.count_nonzero(motion.modes.th == 0) == 2
-    clusters = sorted(len(c) for c in refined._clusters(motion.modes.th))
+    assert len(motion.refined.th) == 18 and np.count_nonzero(motion.refined.th == 0) == 2
+    clusters = sorted(len(c) for c in refined._clusters(motion.refined.th))
     assert clusters == [2] * 9
 
 
@@ -464,7 +464,30 @@ def test_free_parts_are_exact_rigid_modes():
     assert refined._free_components(coupled) == []
     motion = refined_motion(chains)
     values, bounds = motion.evaluate(as_times([1e8]), 0)
-    assert np.count_nonzero(motion.modes.rho_K == 0) == 2
+    assert np.count_nonzero(motion.refined.rho_K == 0) == 2
     M, C, K = free_chains(2, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(1, 10))
     reference = modal_reference(M, C, K, [1] * 6, [0] * 6, [1e8])
     check(values, bounds, reference, 1.0)
+
+
+def test_irrational_initial_data():
+    """x0 = √2, v0 = π (not rational): held to 40 digits, x(1e6) = √2 cos 2e6 + π/2 sin 2e6."""
+    motion = refined_motion(Scene.from_matrices(M=[[1]], K=[[4]], x0=["sqrt(2)"], v0=["pi"]))
+    values, bounds = motion.evaluate(as_times([1e6]), 0)
+    with mpmath.workdps(40):
+        phase = 2 * mpmath.mpf(10) ** 6
+        exact = float(mpmath.sqrt(2) * mpmath.cos(phase) + mpmath.pi / 2 * mpmath.sin(phase))
+    assert abs(values[0, 0] - exact) <= bounds[0, 0] <= 1e-14
+
+
+def test_modal_form_and_modes_for_the_solution_classes():
+    """What the route's solution class reads of a motion: modes (θ, c, Φ), the modal form,
+    the engine's name, and rigid modes served (has_zero_frequency)."""
+    motion = refined_motion(fixed_chain(5))
+    assert motion.engine == "refined" and not motion.has_zero_frequency
+    theta = np.sort(motion.modes.theta)
+    assert np.allclose(theta, 4 * np.sin(np.arange(1, 6) * np.pi / 12) ** 2, rtol=0, atol=1e-15)
+    values, _ = motion.evaluate(as_times([0.5, 3.0]), 0)
+    assert np.allclose(motion.modal_form()(np.array([0.5, 3.0])), values, rtol=0, atol=1e-14)
+    M, C, K = free_chains(1, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(0))
+    assert motion_of(M, C, K, [1, 0, 0], [0, 0, 1]).has_zero_frequency
