@@ -67,6 +67,12 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "transmissibility_function": ("analysis.frequency", "transmissibility_function"),
     "omega": ("analysis.frequency", "omega"),
     "transfer_function": ("analysis.interop", "transfer_function"),
+    # units (pint, the optional extra [units])
+    "SceneUnits": ("model.units", "SceneUnits"),
+    "spring_constant": ("model.units", "spring_constant"),
+    "natural_frequency": ("model.units", "natural_frequency"),
+    "damping_ratio": ("model.units", "damping_ratio"),
+    "in_length_unit": ("model.units", "in_length_unit"),
     "from_state_space": ("analysis.interop", "from_state_space"),
     # output
     "draw_scene": ("output.drawing", "draw_scene"),
@@ -105,8 +111,9 @@ TARGET = _DEFAULTS.target
 __all__ = [
     "CertifiedSolution", "EvaluationReport", "ExactSolution", "InternalError", "InversionError",
     "KrylovSolution", "LimitError", "Limits", "ModalSolution", "Mode", "Periodic", "Plan",
-    "Resolvent", "Sampled", "SampledSolution", "Scene", "SceneError", "Solution", "SweepResult",
-    "TARGET", "Verification", "__version__", "bundled_scenes", "cosine", "draw_scene",
+    "Resolvent", "Sampled", "SampledSolution", "Scene", "SceneError", "SceneUnits", "Solution",
+    "SweepResult", "TARGET", "Verification", "__version__", "bundled_scenes", "cosine",
+    "damping_ratio", "draw_scene", "in_length_unit", "natural_frequency", "spring_constant",
     "frequency_response", "from_state_space", "grid", "impulse", "inverse_laplace",
     "inverse_laplace_terms", "lam", "laplace", "limits", "load_scene", "modes", "omega",
     "partial_fractions", "peak_amplitude", "peak_support_force", "periodic", "plan", "plot_bode",
@@ -156,6 +163,13 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
     from .model.symbols import TIME as t
     from .model.symbols import S as s
     from .model.symbols import lam
+    from .model.units import (
+        SceneUnits,
+        damping_ratio,
+        in_length_unit,
+        natural_frequency,
+        spring_constant,
+    )
     from .output.drawing import draw_scene
     from .output.latex import resolvent_latex
     from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero

@@ -21,7 +21,7 @@ import sympy
 import laplace_springs as ls
 from laplace_springs.cli import main, parse_times
 
-BUNDLED = ["three-dashpots", "vertical-pair", "vertical-pair-damped", "wall-pair",
+BUNDLED = ["example5-in-units", "three-dashpots", "vertical-pair", "vertical-pair-damped", "wall-pair",
            "wall-pair-dashpot"]
 
 

@@ -278,7 +278,7 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     if s is None:
         s = lam
     try:
-        terms = sp.Add.make_args(sp.expand(f))
+        terms = sp.Add.make_args(_expanded(f))
         atoms = [atom for term in terms if not term.has(Periodic) for atom in _term_atoms(term)]
         period, periodic = _periodic_parts([term for term in terms if term.has(Periodic)], entry, s)
     except _Unsupported as exc:
@@ -293,6 +293,14 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
         if R != 0:
             parts.append((tau, R))
     return InputTransform(tuple(parts), s, period, periodic, switch_conditions(f))
+
+
+def _expanded(f: sp.Expr) -> sp.Expr:
+    """f as a sum of products, its symbolic constant denominators kept whole: ``expand``
+    would multiply 1/(a + 1) into e^{-t} and give 1/(a e^t + e^t), not a product."""
+    kept = {power: sp.Dummy() for power in f.atoms(sp.Pow)
+            if power.exp.is_negative and not power.has(t) and not power.is_number}
+    return sp.expand(f.xreplace(kept)).xreplace({dummy: power for power, dummy in kept.items()})
 
 
 def _periodic_parts(terms: list[sp.Expr], entry: str, s: sp.Symbol

@@ -313,7 +313,7 @@ def bundled_scenes() -> dict[str, str]:
     --------
     >>> scenes = bundled_scenes()
     >>> list(scenes)
-    ['three-dashpots', 'vertical-pair', 'vertical-pair-damped', 'wall-pair', 'wall-pair-dashpot']
+    ['example5-in-units', 'three-dashpots', 'vertical-pair', 'vertical-pair-damped', 'wall-pair', 'wall-pair-dashpot']
     >>> scenes["vertical-pair"]
     'Example 1: two masses hanging from the ceiling'
     """
@@ -415,7 +415,7 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
     >>> load_scene("no-such-scene")
     Traceback (most recent call last):
     ...
-    laplace_springs.model.errors.SceneError: unknown scene 'no-such-scene'; bundled scenes: three-dashpots, ...
+    laplace_springs.model.errors.SceneError: unknown scene 'no-such-scene'; bundled scenes: example5-in-units, three-dashpots, ...
     """
     if _looks_like_path(name_or_path):
         path = Path(name_or_path)

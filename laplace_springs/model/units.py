@@ -440,6 +440,7 @@ class _Reader:
         self.parameters = parameters
         self.declared = declared
         self.context = context  # why bare numbers need units, when not from the entries
+        self.sympy_is_si = False  # SymPy values are the scene's own numbers (updates)
         self.written: list[tuple[str, str]] = []
         self.bare: list[tuple[str, Any, Kind, bool]] = []
         self.dimensions: dict[str, Dimensions | None] = {}
@@ -510,6 +511,8 @@ class _Reader:
                           parameters=parameters, declared=self.declared)
 
     def _check_bare(self, entry: str, value: Any, kind: Kind, expression: bool) -> None:
+        if self.sympy_is_si and isinstance(value, sympy.Basic):
+            return
         if isinstance(value, sympy.MatrixBase):
             for (i, j), item in sorted(value.todok().items()):
                 self._check_bare(f"{entry}[{i},{j}]", item, kind, expression)
@@ -693,8 +696,9 @@ def updated_entries(record: SceneUnits | None, inputs: Mapping[str, Any],
                     parameters: Mapping[str, sympy.Symbol]) -> dict[str, Any]:
     """New ``x0``, ``v0`` or ``forcing`` of an existing scene, read in its units.
 
-    In a scene with units they need units (0 aside); in a scene without, they must not
-    have any.
+    In a scene with units they need units (0 aside), except SymPy values, which are the
+    scene's own numbers (``scene.with_initial(x0=other.v0)``); in a scene without units
+    they must not have any.
 
     Examples
     --------
@@ -711,6 +715,7 @@ def updated_entries(record: SceneUnits | None, inputs: Mapping[str, Any],
                              f"(give bare numbers, or build the scene with units)")
         return dict(inputs)
     reader = _Reader(parameters, record.declared, context="the scene was written with units")
+    reader.sympy_is_si = True
     kinds = {"x0": "length", "v0": "velocity", "forcing": record.forcing}
     converted = {name: reader.vector(value, name, KINDS[kinds[name]], name == "forcing")
                  for name, value in inputs.items()}

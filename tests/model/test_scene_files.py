@@ -64,6 +64,14 @@ BUNDLED = {
         "v0": ("0.2", "-0.5"),
         "layout": "horizontal",
     },
+    "example5-in-units": {  # the seed's Example 5 undamped test, in SI by hand: 5 cm = 1/20 m
+        "M": [["1", "0"], ["0", "1/2"]],
+        "C": [["0", "0"], ["0", "0"]],
+        "K": [["350", "-150"], ["-150", "450"]],
+        "x0": ("1/20", "3/100"),
+        "v0": ("2", "1"),
+        "layout": "horizontal",
+    },
     "three-dashpots": {  # acceptance seed5-three-dashpots
         "M": [["1", "0"], ["0", "0.8"]],
         "C": [["1.9", "-1.4"], ["-1.4", "2.3"]],
@@ -132,7 +140,7 @@ def test_bundled_descriptions_cite_the_seed_and_its_misprints(name, phrases):
 
 
 def test_unknown_bundled_name_lists_the_bundled_ones():
-    with pytest.raises(SceneError, match=r"unknown scene 'vertical-pear'; bundled scenes: three-dashpots, vertical-pair"):
+    with pytest.raises(SceneError, match=r"unknown scene 'vertical-pear'; bundled scenes: example5-in-units, three-dashpots, vertical-pair"):
         load_scene("vertical-pear")
 
 

@@ -92,8 +92,9 @@ def test_motion_plot_lines_match_the_reference(name):
     times = lines[0].get_xdata()[::97]
     values = np.array([line.get_ydata()[::97] for line in lines])
     assert relative_error(values, reference_motion(scene, list(times), dps=30)) < 1e-12
-    # the bundled scenes are bare numbers: no unit is claimed (tests/model/test_units.py has "Time (s)")
-    assert ax.get_xlabel() == "Time" and ax.get_ylabel() == "Position"
+    # a scene with units says them (the seed's "Time (s)", "Position (m)"); bare numbers claim none
+    expected = ("Time (s)", "Position (m)") if scene.units is not None else ("Time", "Position")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == expected
     assert ax.get_title().startswith("Mass Position vs. Time")
 
 
