@@ -46,6 +46,7 @@ from ..limits import limits
 from ..model.errors import InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
+from .domains import field_polys
 from .root_sums import Condition, SumOverRoots, root_sum_weights
 
 __all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
@@ -307,8 +308,7 @@ def _field_polys(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
         F = F.xreplace({f: sp.Rational(str(f)) for f in F.atoms(sp.Float)})
     numerator, denominator = sp.fraction(sp.cancel(sp.together(F)))
     try:
-        N = sp.Poly(numerator, s)
-        D = sp.Poly(denominator, s)
+        N, D = field_polys([numerator, denominator], s)  # not EX when e^{ab} is a coefficient
     except sp.PolynomialError as exc:
         raise InversionError(f"not a rational function of {s}: {F}") from exc
     if D.is_zero:

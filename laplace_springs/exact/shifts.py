@@ -46,6 +46,7 @@ import sympy as sp
 from ..limits import limits
 from ..model.errors import InversionError
 from ..model.switching import SwitchCondition
+from .domains import field_polys
 from .real_terms import Term
 
 __all__ = ["DelaySplit", "split_delays", "shift_terms", "combine_terms", "difference_solution",
@@ -349,8 +350,7 @@ def _field_split(classes: dict[sp.Expr, sp.Expr], denominator: sp.Expr, s: sp.Sy
     order = order_delays([tau for tau, _ in items])
     if order is not None:
         items = [items[i] for i in order]
-    D = sp.Poly(denominator, s)
-    Ns = [sp.Poly(numerator, s) for _, numerator in items]
+    D, *Ns = field_polys([denominator, *(numerator for _, numerator in items)], s)
     domain = D.domain
     for N in Ns:
         domain = domain.unify(N.domain)
