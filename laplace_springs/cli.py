@@ -59,6 +59,7 @@ from .model.units import (
 )
 from .output.plots import overview_figure, plot_frequency_response
 from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
+from .publish.commands import add_publish_commands
 from .solution import Solution
 from .solving import solve
 
@@ -156,6 +157,7 @@ def _build_parser() -> argparse.ArgumentParser:
     scenes.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     _add_bench_command(commands)
     _add_response_command(commands)
+    add_publish_commands(commands, _add_common_options, _scene_of)  # animate, page
     return parser
 
 

@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "laplace_springs"
 #: Stages in data-flow order; a module may import only its own stage or earlier ones.
 STAGES = ("_version", "limits", "kernels", "model", "exact", "numeric", "analysis", "output",
           "policy", "planning", "solution",
-          "routes", "solving", "sweeps", "bench", "cli", "__init__", "__main__")
+          "routes", "solving", "sweeps", "publish", "bench", "cli", "__init__", "__main__")
 #: Third-party packages imported where used: the optional ones, and SciPy (a core dependency,
 #: but its submodules take up to a second to import, so only the routes that need them do).
 OPTIONAL = {"matplotlib", "scipy", "control", "dask", "distributed", "nbclient", "nbformat", "pint",

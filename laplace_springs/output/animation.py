@@ -25,7 +25,9 @@ masses not shown are left out, and the title says so.
 from __future__ import annotations
 
 import math
+import re
 import shutil
+import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -37,7 +39,7 @@ from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..model.symbols import TIME
-from .chain import Chain, chain_of
+from .chain import Chain, chain_of, math_label
 from .diagram import MAX_SHIFT, Diagram, build_diagram, orientation_of
 from .plots import Motion, default_t_end
 
@@ -45,7 +47,7 @@ if TYPE_CHECKING:
     from matplotlib.animation import FuncAnimation
     from matplotlib.figure import Figure
 
-__all__ = ["SceneAnimation", "animate", "frame_times"]
+__all__ = ["SceneAnimation", "animate", "frame_times", "offline_player"]
 
 #: Frames per clip-second by default.
 FPS = 20
@@ -214,14 +216,31 @@ class SceneAnimation:
             changed += [line, dot]
         return changed
 
-    def to_jshtml(self, **options: Any) -> str:
-        """The animation as HTML with JavaScript controls (frames as inline PNGs)."""
-        html: str = self.animation.to_jshtml(fps=self.fps, **options)
-        self.frame(0)
-        return html
+    def to_jshtml(self, *, dpi: float | None = None, default_mode: str = "loop",
+                  frame_format: str = "png") -> str:
+        """The animation as HTML with JavaScript controls (matplotlib's player; frames
+        inline, as PNG or, smaller, JPEG, at ``dpi``, default the figure's). The player's
+        buttons are drawn with Unicode symbols: it loads nothing from the network (see
+        :func:`offline_player`)."""
+        from matplotlib.animation import HTMLWriter
+
+        writer = HTMLWriter(fps=self.fps, embed_frames=True, default_mode=default_mode)
+        writer.frame_format = frame_format
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "animation.html"
+            self._write(writer, path, dpi)
+            return offline_player(path.read_text(encoding="utf-8"))
 
     def _repr_html_(self) -> str:
         return self.to_jshtml()
+
+    def _write(self, writer: Any, path: Path, dpi: float | None) -> None:
+        """Render every frame once into ``writer`` (no FuncAnimation event loop)."""
+        with writer.saving(self.figure, str(path), dpi or self.figure.dpi):
+            for k in range(len(self.times)):
+                self.frame(k)
+                writer.grab_frame()
+        self.frame(0)
 
     def save(self, path: str | Path, *, dpi: float | None = None) -> Path:
         """Write the animation: ``.gif`` (pillow), ``.mp4`` (ffmpeg) or ``.html`` (to_jshtml).
@@ -235,7 +254,7 @@ class SceneAnimation:
         path = Path(path)
         suffix = path.suffix.lower()
         if suffix == ".html":
-            path.write_text(self.to_jshtml(), encoding="utf-8")
+            path.write_text(self.to_jshtml(dpi=dpi), encoding="utf-8")
             return path
         if suffix == ".gif":
             from matplotlib.animation import PillowWriter
@@ -246,9 +265,29 @@ class SceneAnimation:
         else:
             raise SceneError(f"animation: cannot write {str(path)!r}: the file name must end in "
                              ".gif, .mp4 or .html")
-        self.animation.save(str(path), writer=writer, dpi=dpi)
-        self.frame(0)
+        self._write(writer, path, dpi)
         return path
+
+
+#: matplotlib's player draws its buttons with Font Awesome icons from a CDN; these symbols
+#: need no network.
+_BUTTONS = {"fa fa-minus": "\u2212", "fa fa-fast-backward": "\u21e4", "fa fa-step-backward": "\u2190",
+            "fa fa-play fa-flip-horizontal": "\u25c0", "fa fa-pause": "\u25ae\u25ae", "fa fa-play": "\u25b6",
+            "fa fa-step-forward": "\u2192", "fa fa-fast-forward": "\u21e5", "fa fa-plus": "+"}
+_STYLESHEET = re.compile(r"<link[^>]*font-awesome[^>]*>", re.IGNORECASE)
+
+
+def offline_player(html: str) -> str:
+    """matplotlib's ``to_jshtml`` output without its Font Awesome stylesheet (from a CDN):
+    the buttons' icons become Unicode symbols.
+
+    >>> offline_player('<link rel="stylesheet" href="https://x/font-awesome.css"><i class="fa fa-play"></i>')
+    '<span aria-hidden="true">▶</span>'
+    """
+    html = _STYLESHEET.sub("", html)
+    for icon, symbol in _BUTTONS.items():
+        html = html.replace(f'<i class="{icon}"></i>', f'<span aria-hidden="true">{symbol}</span>')
+    return html
 
 
 def _ffmpeg_writer(fps: int) -> Any:
@@ -386,8 +425,6 @@ def _figure(orientation: str, curves: bool, figsize: tuple[float, float] | None)
 
 def _curves(ax: Any, times: np.ndarray, positions: np.ndarray, chain: Chain) -> list[tuple[Any, Any]]:
     """The x(t) curves' axes: full extent, faint guides, and the lines drawn frame by frame."""
-    from .chain import math_label
-
     lines = []
     for row, name in zip(positions, chain.coordinates):
         (guide,) = ax.plot(times, row, linewidth=1.0, alpha=0.25)

@@ -28,7 +28,7 @@ from ..model.numbers import to_exact
 from ..model.scene import Scene
 from ..model.units import value_latex
 
-__all__ = ["Chain", "chain_of", "physical_matrices", "math_label", "value_text"]
+__all__ = ["Chain", "chain_of", "physical_matrices", "math_label", "latex_symbol", "value_text"]
 
 _GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "kappa",
           "lambda", "mu", "nu", "xi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega"}
@@ -254,6 +254,15 @@ def math_label(name: str, value: Any = None) -> str:
         shown_value = value if isinstance(value, str) else sp.latex(to_exact(value, name))
         text += f" = {shown_value}"
     return f"${text}$"
+
+
+def latex_symbol(name: str) -> str:
+    """A name as LaTeX (math mode): ``k1`` → ``k_{1}``, ``mu2`` → ``\\mu_{2}``.
+
+    >>> latex_symbol("k1"), latex_symbol("omega")
+    ('k_{1}', '\\\\omega')
+    """
+    return math_label(name)[1:-1]
 
 
 #: The quantity each kind of diagram value is, for :func:`value_text`.

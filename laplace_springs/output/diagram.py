@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import sympy as sp
 
 from ..model.components import Component
 from ..model.errors import SceneError
@@ -731,8 +732,6 @@ def _set_size(text: Text, size: float) -> None:
 
 
 def _latex(expr: Any) -> str:
-    import sympy as sp
-
     return str(sp.latex(expr))
 
 
