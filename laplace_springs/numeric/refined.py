@@ -202,14 +202,18 @@ def _dense_stiffness(scene: Scene) -> bool:
 
 
 def refined_cost(scene: Scene, *, t_max: float, count: int, order: int) -> float:
-    """Estimated seconds: the decomposition and its refinement, then ``count`` times.
+    """Estimated seconds: the decomposition and its refinement, then ``count`` times. It
+    does not depend on ``t_max``.
 
-    The model (one core of the development machine, OpenBLAS; measured with
-    n = 200, 1,000, 4,000 chains, see the module's tests and the report):
-    three refinement steps of two n x n float64 products (≈ 4e-11·n³ s each) and
-    double-double products with K and M (≈ 1.5e-8·n·(nonzeros + n) s each), the float64
-    decomposition (≈ 1e-9·n³ banded, 3e-10·n³ dense), then ≈ 2e-9·n² + 2e-6·n + 2e-5 s
-    per time. It does not depend on ``t_max``.
+    The model (seconds on the development machine, OpenBLAS, fitted to uniform chains of
+    200, 1,000 and 4,000 masses and dense K of 300 and 1,000 coordinates): reading the
+    entries 5e-6 per nonzero; the float64 decomposition 2e-8·n² (banded) or 3e-10·n³
+    (dense); double-double products 6e-8 per n² and per unit, units = 3·(w_K + 4) +
+    (w_K + w_C + 9) for K's and C's row widths w (three refinement steps and the
+    certificate); float64 n x n products 7e-11·n³ each, 5 of them (2 per full step, one for
+    ΦᵀMΦ), or 58 for a dense K (13 per product with K); then per time
+    1e-4 + 2e-7·n + 6e-10·n² (x = Φq), a third more per derivative order. Clusters
+    (repeated frequencies) add ≈ 5 ms each, not counted (unknown before decomposing).
 
     >>> scene = Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0])
     >>> refined_cost(scene, t_max=1e6, count=100, order=0) == refined_cost(scene, t_max=1.0,
@@ -218,10 +222,14 @@ def refined_cost(scene: Scene, *, t_max: float, count: int, order: int) -> float
     """
     n = scene.n
     nnz = _stored_entries(scene)
-    steps = 4
-    build = 2e-3 + steps * (2 * 4e-11 * n**3 + 2 * 1.5e-8 * n * (nnz + n)) + 1e-9 * n**3
-    per_time = 2e-9 * n * n + 2e-6 * n + 2e-5
-    return build + count * per_time * (1 + 0.2 * order)
+    if _dense_stiffness(scene):
+        decomposition, units, products = 3e-10 * n**3, 20, 58
+    else:
+        width_K, width_C = _row_width(scene, "K"), _row_width(scene, "C")
+        decomposition, units, products = 2e-8 * n * n, 3 * (width_K + 4) + width_K + width_C + 9, 5
+    build = 2e-3 + 5e-6 * nnz + decomposition + 6e-8 * units * n * n + 7e-11 * products * n**3
+    per_time = (1e-4 + 2e-7 * n + 6e-10 * n * n) * (1 + order / 3)
+    return build + count * per_time
 
 
 def refined_motion(scene: Scene) -> RefinedMotion:
@@ -434,11 +442,23 @@ class _Exact:
     damping: float     # ≥ ‖M^{-1/2} C M^{-1/2}‖₂
     K_psd: bool        # K ⪰ 0 proved (diagonal dominance)
     C_psd: bool        # C ⪰ 0 proved
+    K_rows: tuple[np.ndarray, np.ndarray]   # K's float64 row sums Σ_j K_ij and Σ_j |K_ij|
 
 
-def _dominant(entries: dict[tuple[int, int], Any], n: int) -> bool:
+def _dominant(entries: dict[tuple[int, int], Any], n: int, slots: _Slots) -> bool:
     """Whether a symmetric exact matrix is diagonally dominant with a non-negative
-    diagonal (hence positive semi-definite)."""
+    diagonal (hence positive semi-definite): decided in float64 where the margin exceeds
+    the rounding, exactly otherwise."""
+    if not entries:
+        return True
+    on = slots.cols == np.arange(n)[None, :]
+    diagonal_f = np.sum(np.where(on, slots.hi, 0.0), axis=0)
+    off_f = np.sum(np.where(on, 0.0, np.abs(slots.hi)), axis=0)
+    margin = (slots.slots + 4) * U * (np.abs(diagonal_f) + off_f)
+    if np.any(diagonal_f - off_f < -margin):
+        return False
+    if np.all(diagonal_f - off_f > margin):
+        return True
     diagonal = [Fraction(0)] * n
     off = [Fraction(0)] * n
     for (i, j), value in entries.items():
@@ -503,8 +523,10 @@ def _exact_data(scene: Scene) -> _Exact:
         mu = _mass_floor(n, Me)
         stiffness = float(np.max(K.row_sums())) / mu if mu > 0 else math.inf
         damping = (float(np.max(C.row_sums())) / mu if mu > 0 else math.inf) if C else 0.0
+    K_rows = (np.sum(K_slots.hi, axis=0), np.sum(np.abs(K_slots.hi), axis=0))
     return _Exact(n, M, C, K, vectors[0], vectors[1], mu, float(np.max(M.row_sums())),
-                  stiffness, damping, _dominant(Ke, n), not Ce or _dominant(Ce, n))
+                  stiffness, damping, _dominant(Ke, n, K_slots),
+                  C_slots is None or _dominant(Ce, n, C_slots), K_rows)
 
 
 # ----------------------------------------------------------------------------- refinement
@@ -713,15 +735,17 @@ def _refine(ex: _Exact, theta: np.ndarray, phi: np.ndarray) -> _Pairs:
     return pairs
 
 
-def _free_components(scene: Scene) -> list[np.ndarray]:
+def _free_components(scene: Scene, ex: _Exact) -> list[np.ndarray]:
     """The free parts of a spring network: connected components c of K's graph with
     K·1_c = 0 exactly (zero row sums), a diagonal M, and 1_cᵀC1_d = 0 for c ≠ d, so that
     the vectors 1_c are exact, M-orthogonal null vectors of K that C keeps apart (rigid
     modes θ = 0, q = a + b·t). Time ∝ nonzero entries."""
     n = scene.n
-    M, C, K = (rational_entries(scene, name) or {} for name in ("M", "C", "K"))
-    if not all(i == j for i, j in M):
+    total, size = ex.K_rows
+    maybe = np.abs(total) <= (ex.K.slots + 4) * U * size  # the others surely sum to nonzero
+    if not np.any(maybe) or not all(ex.M.identity):
         return []
+    M, C, K = (rational_entries(scene, name) or {} for name in ("M", "C", "K"))
     parent = list(range(n))
 
     def root(i: int) -> int:
@@ -734,9 +758,12 @@ def _free_components(scene: Scene) -> list[np.ndarray]:
         parent[root(i)] = root(j)
     sums: dict[int, Fraction] = {}
     for (i, _), value in K.items():
-        sums[i] = sums.get(i, Fraction(0)) + Fraction(int(value.p), int(value.q))
+        if maybe[i]:
+            sums[i] = sums.get(i, Fraction(0)) + Fraction(int(value.p), int(value.q))
     labels = np.array([root(i) for i in range(n)])
-    free = {int(c) for c in np.unique(labels)} - {int(labels[i]) for i, total in sums.items() if total != 0}
+    fixed = {int(labels[i]) for i in np.flatnonzero(~maybe)}
+    fixed |= {int(labels[i]) for i, row_sum in sums.items() if row_sum != 0}
+    free = {int(c) for c in np.unique(labels)} - fixed
     for (i, j), value in C.items():
         if labels[i] != labels[j] and labels[i] in free and labels[j] in free and value != 0:
             return []  # a dashpot couples two free parts: their rigid modes are not 1_c
@@ -1055,7 +1082,7 @@ class RefinedMotion:
         ex = self._exact
         theta, phi = _eigen(self.data)
         pairs = _refine(ex, np.asarray(theta, dtype=float), np.asarray(phi, dtype=float))
-        _exact_rigid_modes(ex, pairs, _free_components(self.scene))
+        _exact_rigid_modes(ex, pairs, _free_components(self.scene, ex))
         return _certify(ex, pairs)
 
     @cached_property
@@ -1074,13 +1101,18 @@ class RefinedMotion:
         return np.ascontiguousarray(padded.reshape(P.shape[0], count, b).transpose(1, 0, 2)), b
 
     @cached_property
+    def _radius(self) -> float:
+        """ρ, the largest |pole|."""
+        return float(np.max(np.abs(self.poles()), initial=0.0))
+
+    @cached_property
     def _scale(self) -> float:
-        """S₀ = ‖x0‖∞ + ‖v0‖∞/ρ, ρ the largest |pole| (the contract's floor of the scale)."""
+        """S₀ = ‖x0‖∞ + ‖v0‖∞/ρ (the contract's floor of the scale; S₀ρᵏ for the k-th
+        derivative)."""
         ex = self._exact
-        rho = float(np.max(np.abs(self.poles()), initial=0.0))
         x0 = float(np.max(np.abs(ex.x0[0]), initial=0.0))
         v0 = float(np.max(np.abs(ex.v0[0]), initial=0.0))
-        return x0 + (v0 / rho if rho > 0 else 0.0)
+        return x0 + (v0 / self._radius if self._radius > 0 else 0.0)
 
     @property
     def modes(self) -> _ModeData:
@@ -1171,7 +1203,7 @@ class RefinedMotion:
         gamma = _gamma(terms) + U * (1 + _gamma(terms)) + _gamma(2 * blocks.shape[0]) ** 2
         with np.errstate(over="ignore", invalid="ignore"):
             rounding = float(np.dot(self.refined.colmax, gamma * np.abs(q) + eps)) * _UP
-            scale = max(float(np.max(np.abs(x), initial=0.0)), self._scale if order == 0 else 0.0)
+            scale = max(float(np.max(np.abs(x), initial=0.0)), self._scale * self._radius**order)
             goal = target * scale / 2
             if rounding <= goal:
                 return x, energy + rounding + 2 * U * np.abs(x)

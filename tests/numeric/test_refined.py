@@ -453,15 +453,15 @@ def test_free_parts_are_exact_rigid_modes():
     M-orthogonal null vectors of K that C keeps apart."""
     chains = matrices(*free_chains(2, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(1, 10))[:3],
                       [1] * 6, [0] * 6)
-    assert [list(c) for c in refined._free_components(chains)] == [[0, 1, 2], [3, 4, 5]]
+    assert [list(c) for c in refined._free_components(chains, refined._exact_data(chains))] == [[0, 1, 2], [3, 4, 5]]
     grounded = fixed_chain(4)
-    assert refined._free_components(grounded) == []
+    assert refined._free_components(grounded, refined._exact_data(grounded)) == []
     M, C, K = free_chains(2, 2, [1, 1], [1], Fraction(0), Fraction(0))
     C[1][2] = C[2][1] = Fraction(-1)  # a dashpot between the two parts
     C[1][1] += 1
     C[2][2] += 1
     coupled = matrices(M, C, K, [1, 0, 0, 0], [0] * 4)
-    assert refined._free_components(coupled) == []
+    assert refined._free_components(coupled, refined._exact_data(coupled)) == []
     motion = refined_motion(chains)
     values, bounds = motion.evaluate(as_times([1e8]), 0)
     assert np.count_nonzero(motion.refined.rho_K == 0) == 2
