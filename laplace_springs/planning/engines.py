@@ -283,9 +283,29 @@ def _krylov_expectation(facts: SceneFacts, request: Request) -> str | None:
     return f"its bound is expected to miss the target ({expected:.1e} > {request.target:g})"
 
 
+def _refined_refusal(facts: SceneFacts, request: Request) -> str | None:
+    """The refined engine's own rule (numeric/refined.py), read from the facts' quote; a
+    derivative order beyond Limits.refined_max_order."""
+    if why := _symmetric_refusal(facts, request):
+        return why
+    quote = facts.quote("refined")
+    if quote is None:
+        return "the refined engine has not quoted this scene"
+    if quote.refusal is not None:
+        return quote.refusal
+    most = limits().refined_max_order
+    if request.order > most:
+        return f"derivative order {request.order} > Limits.refined_max_order = {most}"
+    return None
+
+
 def _refined_cost(facts: SceneFacts, request: Request) -> Cost:
-    n = facts.n
-    return Cost(1e-3 + 2e-7 * n**3, _run(request, 1.5e-8 * n, n), 3 * _DOUBLE * n * n)
+    """The engine's own model (numeric/refined.refined_cost): decomposition and refinement,
+    then a cost per time that does not depend on t; a third more per derivative order."""
+    quote = facts.quote("refined")
+    build, per_time = (quote.build, quote.per_time) if quote else (1e-3 + 2e-7 * facts.n**3, 0.0)
+    return Cost(build, request.count * per_time * (1 + request.order / 3),
+                3 * _DOUBLE * facts.n * facts.n)
 
 
 def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
@@ -324,7 +344,7 @@ ENGINES: tuple[Engine, ...] = (
     Engine("exact", 0, "exact partial fractions, float64 pole sums", _exact_refusal,
            _exact_cost, precision=2e-15),
     Engine("refined", 1, "eigenpairs refined in double-double, phases ωt in double-double",
-           _symmetric_refusal, _refined_cost, precision=1e-15),
+           _refined_refusal, _refined_cost, precision=1e-15),
     Engine("ball", 2, "certified poles evaluated in ball arithmetic", _certified_refusal,
            _ball_cost, precision=0.0),
     Engine("mp", 2, "the exact terms evaluated in mpmath", _mp_refusal, _mp_cost,

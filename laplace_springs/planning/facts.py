@@ -25,11 +25,25 @@ from ..numeric.first_order import (
     scene_entries,
 )
 from ..numeric.krylov import krylov_refusal
+from ..numeric.refined import refined_cost, refined_refusal
 
-__all__ = ["SceneFacts", "scene_facts"]
+__all__ = ["SceneFacts", "Quote", "scene_facts"]
 
 #: Relative margin on sums of non-negative float64 terms (≤ n·u for n ≤ 10⁶ terms).
 _MARGIN = 1 + 1e-9
+
+
+@dataclass(frozen=True)
+class Quote:
+    """An engine module's own answer for a scene, taken once when the facts are read:
+    why it cannot take the scene (None when it can), the seconds to build its data and the
+    seconds per time (for derivative order 0). The engine module is the one home of these
+    rules; the planner reads them as facts."""
+
+    engine: str
+    refusal: str | None
+    build: float
+    per_time: float
 
 
 @dataclass(frozen=True)
@@ -65,6 +79,9 @@ class SceneFacts:
         A verified upper bound on every |λ| with det(λ²M + λC + K) = 0 (same condition).
     sampled : bool
         A force is a sampled history.
+    quotes : tuple of Quote
+        The answers of engine modules that decide from the scene itself (the refined
+        engine: its products depend on the sparsity of K).
     """
 
     n: int
@@ -80,6 +97,11 @@ class SceneFacts:
     stiffness_bound: float | None = None
     pole_bound: float | None = None
     sampled: bool = False
+    quotes: tuple[Quote, ...] = ()
+
+    def quote(self, engine: str) -> Quote | None:
+        """The engine module's quote for this scene, if it gave one."""
+        return next((q for q in self.quotes if q.engine == engine), None)
 
     @property
     def numeric(self) -> bool:
@@ -121,12 +143,21 @@ def _facts(scene: Scene) -> SceneFacts:
     diagonal = all(i == j for i, j in M) and len(M) == scene.n and not massless_nodes(scene)
     nnz = sum(len(scene_entries(scene, name)) for name in ("M", "C", "K"))
     stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
+    quotes = (_refined_quote(scene),) if classical and not symbolic else ()
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
                       rational=not symbolic and rational, first_order=first_order,
                       classical=classical, rayleigh=rayleigh,
                       krylov=unforced and rational and krylov_refusal(scene) is None,
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
-                      pole_bound=poles, sampled=sampled)
+                      pole_bound=poles, sampled=sampled, quotes=quotes)
+
+
+def _refined_quote(scene: Scene) -> Quote:
+    why = refined_refusal(scene, t_max=0.0, count=0, order=0)
+    if why is not None:
+        return Quote("refined", why, 0.0, 0.0)
+    build = refined_cost(scene, t_max=0.0, count=0, order=0)
+    return Quote("refined", None, build, refined_cost(scene, t_max=0.0, count=1, order=0) - build)
 
 
 def _bounds(exact: dict[str, Any]) -> tuple[float | None, float | None]:

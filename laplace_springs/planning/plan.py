@@ -112,10 +112,11 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
 
     Examples
     --------
-    >>> from laplace_springs.planning.facts import SceneFacts
+    >>> from laplace_springs.planning.facts import Quote, SceneFacts
     >>> facts = SceneFacts(n=200, symbolic=False, forced=False, rational=True, first_order=True,
     ...                    classical=True, rayleigh=True, krylov=True, nnz=800,
-    ...                    diagonal_mass=True, stiffness_bound=4.0, pole_bound=2.0)
+    ...                    diagonal_mass=True, stiffness_bound=4.0, pole_bound=2.0,
+    ...                    quotes=(Quote("refined", None, 0.05, 2e-4),))
     >>> plan(facts, Request(count=10, t_max=50.0)).chain[:2]
     ('chebyshev', 'refined')
     >>> plan(facts, Request(count=2, t_max=1e6)).primary

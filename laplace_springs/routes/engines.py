@@ -26,6 +26,7 @@ from ..numeric.chebyshev import chebyshev_motion
 from ..numeric.classical import classical_motion
 from ..numeric.krylov import krylov_motion
 from ..numeric.modal import decompose_modal
+from ..numeric.refined import refined_motion
 from ..planning.engines import Refusal
 from ..planning.execute import Evaluator, register_engine
 from ..solution import Solution
@@ -95,6 +96,8 @@ _FLOAT_SOLUTIONS: dict[str, Callable[[Any, str, float], Solution | Refusal]] = {
         scene, decompose_modal(scene), reason=reason, target=target),
     "krylov": lambda scene, reason, target: KrylovSolution(
         scene, krylov_motion(scene), reason=reason, target=target),
+    "refined": lambda scene, reason, target: ModalSolution(
+        scene, refined_motion(scene), reason=reason, target=target),
 }
 
 

@@ -18,11 +18,13 @@ from laplace_springs.limits import using_limits
 from laplace_springs.numeric.times import as_times
 from laplace_springs.planning import Refusal, Request, SceneFacts, execute, plan
 from laplace_springs.planning.engines import Cost
+from laplace_springs.planning.facts import Quote
 from laplace_springs.planning.plan import Plan
 
 RAYLEIGH = {"symbolic": False, "forced": False, "rational": True, "first_order": True,
             "classical": True, "rayleigh": True, "krylov": True, "diagonal_mass": True,
-            "stiffness_bound": 4.0, "pole_bound": 2.1}
+            "stiffness_bound": 4.0, "pole_bound": 2.1,
+            "quotes": (Quote("refined", None, 0.05, 2e-4),)}
 
 
 def chain(n: int, *, k=1, c=None, walls=True, extra=None) -> ls.Scene:
