@@ -101,6 +101,8 @@ MAX_UNIT_EXPONENT = 12
 _FACTOR_TOLERANCE = 1e-12
 #: Text that cannot hold a unit (digits, decimal points, exponents, operators).
 _PLAIN_TEXT = re.compile(r"[\s0-9.eE+\-*/()^]*")
+#: Types that never carry a unit.
+_PLAIN_TYPES = frozenset({int, float, fractions.Fraction})
 #: What a unit text may contain before pint sees it: letters (µ, Å, Ω too), digits, spaces,
 #: ``* / ^ ( ) . - _ · ° %``; quotes, brackets, commas and colons never reach pint's parser.
 _UNIT_TEXT = re.compile(r"[\w\s*/^().\-·⋅−°%]+")
@@ -360,7 +362,8 @@ def _resolve(reg: Any, text: str) -> Unit:
 
 def _is_quantity(value: object) -> bool:
     """Whether ``value`` is a pint Quantity (checked without importing pint)."""
-    return type(value).__module__.split(".")[0] == "pint" and hasattr(value, "magnitude") \
+    module = type(value).__module__
+    return (module == "pint" or module.startswith("pint.")) and hasattr(value, "magnitude") \
         and hasattr(value, "units")
 
 
@@ -449,6 +452,9 @@ class _Reader:
     # -- one entry -------------------------------------------------------------------
     def leaf(self, value: Any, entry: str, kind: Kind, expression: bool = False) -> Any:
         """The exact SI value of an entry with a unit; a bare entry unchanged (noted)."""
+        if type(value) in _PLAIN_TYPES or type(value) is str and _PLAIN_TEXT.fullmatch(value):
+            self.bare.append((entry, value, kind, expression))  # the common case, first
+            return value
         if _is_quantity(value):
             unit = _checked_unit(str(value.units), entry, value, kind)
             magnitude = value.magnitude
