@@ -460,7 +460,7 @@ class _Reader:
             magnitude = value.magnitude
             exact = to_exact(magnitude, entry, parameters=self.parameters)
             return self._converted(exact * unit.factor, entry, unit, str(value.units), exact)
-        if isinstance(value, str) and not _PLAIN_TEXT.fullmatch(value):
+        if isinstance(value, str):  # with a letter: perhaps a unit
             try:
                 number, unit_text = self._split(value, entry, expression)
             except SceneError:  # not even a number: the builder reports it, as without units
