@@ -32,7 +32,7 @@ from sympy.core.function import AppliedUndef
 from ..model.errors import SceneError
 from ..model.forcing import input_transform, parse_forcing
 from ..model.numbers import declare_parameters, shown
-from ..model.switching import SwitchCondition
+from ..model.switching import SwitchCondition, switching_time
 from ..model.symbols import TIME, S
 
 __all__ = ["laplace", "derivative_transform"]
@@ -121,7 +121,7 @@ def laplace(f: Any, t: sp.Symbol | None = None, s: sp.Symbol | None = None, *,
         time = _time_of(f, t)
         f, unknown_part = _split_unknowns(f, time, s)
         constants = {c: sp.Dummy(f"c{i}") for i, c in enumerate(
-            sorted(f.atoms(AppliedUndef, sp.Subs), key=sp.default_sort_key)) if not c.has(time)}
+            sorted(f.atoms(AppliedUndef, sp.Subs), key=sp.default_sort_key)) if time not in c.free_symbols}
         f = f.xreplace(constants)  # initial values x(0), x'(0): constants of the rest
     if t is not None and t != TIME and isinstance(f, sp.Basic):
         f = f.xreplace({t: TIME})
@@ -190,9 +190,27 @@ def _split_unknowns(f: sp.Basic, t: sp.Symbol, s: sp.Symbol) -> tuple[sp.Expr, s
         if not any(u.has(t) for u in term.atoms(AppliedUndef, sp.Derivative)):
             rest.append(term)
             continue
+        sifted = _sifted(term, t)
+        if sifted is not None:  # f(t) δ(t - τ) = f(τ) δ(t - τ): a constant times an impulse
+            rest.append(sifted)
+            continue
         coefficient, core = term.as_independent(t, as_Add=False)
         transformed.append(coefficient * derivative_transform(core, t, s, whole=term))
     return sp.Add(*rest), sp.Add(*transformed)
+
+
+def _sifted(term: sp.Expr, t: sp.Symbol) -> sp.Expr | None:
+    """``term`` with its other factors evaluated at the time of its one impulse
+    δ(c t + d) (the sifting property: f(t) δ(t - 42) = f(42) δ(t - 42)), or None when
+    ``term`` has no such impulse."""
+    impulses = [f for f in sp.Mul.make_args(term) if isinstance(f, sp.DiracDelta) and f.has(t)]
+    if len(impulses) != 1 or (len(impulses[0].args) > 1 and impulses[0].args[1] != 0):
+        return None
+    found = switching_time(impulses[0].args[0], t)
+    if found is None:
+        return None
+    others = term / impulses[0]
+    return others.subs(t, found[2]) * impulses[0]
 
 
 def derivative_transform(core: sp.Expr, t: sp.Symbol, s: sp.Symbol, *,
