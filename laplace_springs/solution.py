@@ -37,7 +37,7 @@ from .limits import limits
 from .model.errors import LimitError, SceneError
 from .model.scene import Scene
 from .model.symbols import TIME
-from .model.units import attach_units
+from .model.units import attach_units, unit_note_text
 from .numeric.first_order import massless_nodes, scene_entries
 from .numeric.times import Times, as_times, check_dps
 from .output.latex import matrix_latex
@@ -376,7 +376,8 @@ class Solution(ABC):
             lines += summary_lines(self.scene)
         else:
             lines += formula_lines(self.scene, list(self.x), self.conditions)
-        return "\n".join(lines)
+        note = unit_note_text(self.scene)
+        return "\n".join([*lines, note] if note else lines)
 
     def __repr__(self) -> str:
         poles = self.poles
