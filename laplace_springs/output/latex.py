@@ -546,7 +546,8 @@ def solution_latex(motion: ExactMotion, *, form: str = "terms", resolvent: bool 
     writer = LatexWriter()
     writer.blocks.append(_motion_rows(writer, motion, form))
     writer.notes += [rf"&\text{{valid for }} {condition.latex()}"
-                     for condition in getattr(motion, "generic_conditions", ())]
+                     for condition in (*getattr(motion, "generic_conditions", ()),
+                                       *getattr(motion, "input_conditions", ()))]
     writer.notes += unit_note_latex(motion.scene)  # "with x in m and t in s"
     if resolvent:
         writer.blocks.append(_resolvent_rows(motion.resolvent))

@@ -268,3 +268,19 @@ def test_the_command_line_reads_equations(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "laplace_springs", "solve", "--equations", str(path)],
                          capture_output=True, text=True, check=False)
     assert bad.returncode == 2 and "unknown name 'c'" in bad.stderr and "parameters: k, c" in bad.stderr
+
+
+def test_a_plain_symbol_switching_time_in_scene_forcing_states_its_condition():
+    time, b = sp.Symbol("t"), sp.Symbol("b")  # b plain: a step at b is a delay where b >= 0
+    x = sp.Function("x")
+    scene = ls.Scene.from_equations([sp.Eq(x(time).diff(time, 2) + 4 * x(time), sp.Heaviside(time - b)),
+                                     sp.Eq(x(0), 0), sp.Eq(x(time).diff(time).subs(time, 0), 0)])
+    solution = ls.solve(scene)
+    (condition,) = solution.conditions
+    assert condition.as_relational() == sp.Ge(b, 0) and r"b \geq 0" in solution.latex()
+    # the step response of x'' + 4x: (1 - cos 2(t - b))/4 for t > b (any table)
+    value = solution.x[0].subs({b: sp.Rational(1, 2), t: 2})
+    assert sp.simplify(value - (1 - sp.cos(3)) / 4) == 0
+    declared = ls.solve(ls.Scene.from_equations("x'' + 4*x = Heaviside(t - b); x(0) = 0; x'(0) = 0",
+                                                parameters=["b"]))
+    assert declared.conditions == ()
