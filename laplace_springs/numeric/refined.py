@@ -371,17 +371,26 @@ def _dense(slots: _Slots, n: int) -> _Dense:
     return _Dense(hi, lo, tuple(pieces), rest, bits)
 
 
-def _dense_apply(A: _Dense, Xh: np.ndarray, Xl: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A·X in double-double from 9 exact slice products and 4 rounded small ones;
-    |result − A_dd X| ≤ (2γ_n u + 2^-60 γ_n + 3u²)·|A||X|."""
-    pieces, rest = _extract(Xh, 0, A.bits, 3)
-    s = np.zeros_like(Xh)
-    err = (A.rest @ Xh + (A.hi - A.rest) @ rest) + (A.lo @ Xh + A.hi @ Xl)
-    for a in A.slices:
-        for b in pieces:
+def _sliced_product(Ah: np.ndarray, Al: np.ndarray, Bh: np.ndarray, Bl: np.ndarray,
+                    a_slices: tuple[list[np.ndarray], np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(Ah + Al)(Bh + Bl) in double-double from 9 exact products of error-free slices
+    (rows of A, columns of B) and 4 rounded small ones: |result − AB| ≤ (2γ_k u + 2^-60γ_k
+    + 3u²)·|A||B| for an inner dimension k."""
+    bits = (52 - math.ceil(math.log2(max(Ah.shape[1], 2)))) // 2
+    pieces, rest = a_slices if a_slices is not None else _extract(Ah, 1, bits, 3)
+    b_pieces, b_rest = _extract(Bh, 0, bits, 3)
+    s = np.zeros((Ah.shape[0], Bh.shape[1]))
+    err = (rest @ Bh + (Ah - rest) @ b_rest) + (Al @ Bh + Ah @ Bl)
+    for a in pieces:
+        for b in b_pieces:
             s, sigma = two_sum(s, a @ b)
             err += sigma
     return two_sum(s, err)
+
+
+def _dense_apply(A: _Dense, Xh: np.ndarray, Xl: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A·X in double-double by :func:`_sliced_product` (A's slices made once)."""
+    return _sliced_product(A.hi, A.lo, Xh, Xl, (list(A.slices), A.rest))
 
 
 def _apply(A: _Slots | _Dense, Xh: np.ndarray, Xl: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -829,8 +838,22 @@ def _perturbation(values: np.ndarray, residual_norm: float, g: float, mu: float)
     return ((2 * d + d * d) * size + (1 + d) ** 2 * F) * _UP
 
 
+def _normalise(ex: _Exact, pairs: _Pairs) -> None:
+    """Scale each shape to φ_jᵀMφ_j = 1 in double-double (the steps normalise in float64
+    only; an exact null vector stays one: all its entries are scaled alike)."""
+    for B in _column_blocks(ex.n, ex.n):
+        MX = _mass_apply(ex, pairs.Ph[:, B], pairs.Pl[:, B])
+        Nh, Nl = _dots(pairs.Ph[:, B], pairs.Pl[:, B], *MX)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sh, sl = dd_sqrt(*dd_div(np.ones_like(Nh), np.zeros_like(Nh), Nh, Nl))
+        usable = np.isfinite(sh) & (Nh > 0)
+        sh, sl = np.where(usable, sh, 1.0), np.where(usable, sl, 0.0)
+        pairs.Ph[:, B], pairs.Pl[:, B] = dd_mul(pairs.Ph[:, B], pairs.Pl[:, B], sh[None, :], sl[None, :])
+
+
 def _certify(ex: _Exact, pairs: _Pairs) -> _Modes:
     n = ex.n
+    _normalise(ex, pairs)
     Ph, Pl, th, tl = pairs.Ph, pairs.Pl, pairs.th, pairs.tl
     ch, cl = np.zeros(n), np.zeros(n)
     rK, rC = np.empty(n), np.zeros(n)
@@ -872,7 +895,12 @@ def _certify(ex: _Exact, pairs: _Pairs) -> _Modes:
         rho_C = rC_true / root_mu if root_mu else np.full(n, math.inf)
     mass_rounding = ex.M.slots + 2
     g = (math.sqrt(G_frob2) * _UP + (2 * _gamma(n + mass_rounding) + 6 * U) * trace) * _UP
-    theta_low = float(np.min(th + tl)) - _perturbation(th, float(_norms(rK_true[:, None])[0]), g, ex.mu)
+    residual_K = float(_norms(rK_true[:, None])[0])
+    theta_low = float(np.min(th + tl)) - _perturbation(th, residual_K, g, ex.mu)
+    if theta_low <= 0 < float(np.min(th)) and pairs.null is None:
+        # a wide spread of θ: float64's ΦᵀMΦ loses θ_min; form it in double-double
+        g = _orthogonality_dd(ex, Ph, Pl, trace)
+        theta_low = float(np.min(th + tl)) - _perturbation(th, residual_K, g, ex.mu)
     if ex.C is None or ex.C_psd:
         delta_C = 0.0
     else:
@@ -881,6 +909,18 @@ def _certify(ex: _Exact, pairs: _Pairs) -> _Modes:
     q0, dq0, e0, e1 = _initial_data(ex, Ph, Pl)
     return _Modes(th, tl, ch, cl, Ph, Pl, q0, dq0, rho_K, rho_C, e0, e1, theta_low, delta_C,
                   np.max(absP, axis=0) if n else np.zeros(0), pairs.steps, pairs.residual)
+
+
+def _orthogonality_dd(ex: _Exact, Ph: np.ndarray, Pl: np.ndarray, trace: float) -> float:
+    """‖Φ̃ᵀMΦ̃ − I‖₂ bounded from a double-double product (13 float64 n x n products);
+    ``trace`` ≥ ‖|Φ|ᵀ|M||Φ|‖₂."""
+    n = ex.n
+    MXh, MXl = _mass_apply(ex, Ph, Pl)
+    Gh, Gl = _sliced_product(np.ascontiguousarray(Ph.T), np.ascontiguousarray(Pl.T), MXh, MXl)
+    Gh[np.diag_indices(n)] -= 1.0
+    defect = float(np.sqrt(np.sum((np.abs(Gh) + np.abs(Gl)) ** 2))) * _UP
+    rounding = (2 * _gamma(n + 2) * U + 2.0**-60 * _gamma(n + 2) + (ex.M.slots + 12) * U * U) * trace
+    return (defect + rounding) * _UP
 
 
 def _initial_data(ex: _Exact, Ph: np.ndarray, Pl: np.ndarray) -> tuple[Any, Any, float, float]:

@@ -491,3 +491,24 @@ def test_modal_form_and_modes_for_the_solution_classes():
     assert np.allclose(motion.modal_form()(np.array([0.5, 3.0])), values, rtol=0, atol=1e-14)
     M, C, K = free_chains(1, 3, [1, 2, 1], [1, 1], Fraction(0), Fraction(0))
     assert motion_of(M, C, K, [1, 0, 0], [0, 0, 1]).has_zero_frequency
+
+
+def test_masses_spread_over_twelve_decades():
+    """Masses from 1e-6 to 1e6 on a chain: θ spreads over 1e16, float64's ΦᵀMΦ cannot
+    show θ_min > 0, the double-double one can (θ_low > 0: the bound grows like t, not t²)."""
+    n = 5
+    masses = [Fraction(10) ** e for e in (-6, -3, 0, 3, 6)]
+    M = [[masses[i] if i == j else Fraction(0) for j in range(n)] for i in range(n)]
+    K = [[Fraction(0)] * n for _ in range(n)]
+    for i in range(n + 1):
+        for p, q, s in ((i - 1, i - 1, 1), (i, i, 1), (i - 1, i, -1), (i, i - 1, -1)):
+            if 0 <= p < n and 0 <= q < n:
+                K[p][q] += s
+    C = [[Fraction(0)] * n for _ in range(n)]
+    x0, v0 = [1, 0, 0, 0, 1], [0, 0, 1, 0, 0]
+    motion = motion_of(M, C, K, x0, v0)
+    assert motion.refined.theta_low > 0
+    times = [0, 1e-4, 1.0, 1e4, 1e6]
+    values, bounds = motion.evaluate(as_times(times), 0)
+    reference = modal_reference(M, C, K, x0, v0, times)
+    check(values, bounds, reference, contract_scale(reference, x0, v0, motion.poles()))
