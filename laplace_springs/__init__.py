@@ -76,6 +76,8 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "from_state_space": ("analysis.interop", "from_state_space"),
     # output
     "draw_scene": ("output.drawing", "draw_scene"),
+    "animate": ("output.animation", "animate"),
+    "SceneAnimation": ("output.animation", "SceneAnimation"),
     "resolvent_latex": ("output.latex", "resolvent_latex"),
     "plot_bode": ("output.plots", "plot_bode"),
     "plot_frequency_response": ("output.plots", "plot_frequency_response"),
@@ -98,6 +100,11 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "SweepResult": ("sweeps.run", "SweepResult"),
     "sample_parameters": ("sweeps.uncertainty", "sample_parameters"),
     "summarize": ("sweeps.uncertainty", "summarize"),
+    # publish: pages, the explorer
+    "worked_example": ("publish.page", "worked_example"),
+    "WorkedExample": ("publish.page", "WorkedExample"),
+    "explore": ("publish.explore", "explore"),
+    "Explorer": ("publish.explore", "Explorer"),
     "peak_amplitude": ("sweeps.derived", "peak_amplitude"),
     "settling_time": ("sweeps.derived", "settling_time"),
     "steady_state_amplitudes": ("sweeps.derived", "steady_state_amplitudes"),
@@ -109,6 +116,7 @@ _PUBLIC: dict[str, tuple[str, str]] = {
 TARGET = _DEFAULTS.target
 
 __all__ = [
+    "Explorer", "SceneAnimation", "WorkedExample", "animate", "explore", "worked_example",
     "CertifiedSolution", "EvaluationReport", "ExactSolution", "InternalError", "InversionError",
     "KrylovSolution", "LimitError", "Limits", "ModalSolution", "Mode", "Periodic", "Plan",
     "Resolvent", "Sampled", "SampledSolution", "Scene", "SceneError", "SceneUnits", "Solution",
@@ -170,10 +178,13 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
         natural_frequency,
         spring_constant,
     )
+    from .output.animation import SceneAnimation, animate
     from .output.drawing import draw_scene
     from .output.latex import resolvent_latex
     from .output.plots import plot_bode, plot_frequency_response, plot_pole_zero
     from .planning import Plan
+    from .publish.explore import Explorer, explore
+    from .publish.page import WorkedExample, worked_example
     from .routes.certified import CertifiedSolution
     from .routes.exact import ExactSolution
     from .routes.krylov import KrylovSolution
