@@ -142,15 +142,18 @@ class Limits:
     #: Up to this many coordinates all the poles of a krylov scene are computed densely.
     dense_poles_max_coordinates: int = 200
     #: Largest scene the refined (long-horizon) engine takes: it holds the n x n shapes as
-    #: double-doubles (256 MB at 4,000) and refines them with n x n float64 products.
+    #: double-doubles and refines them with n x n float64 products. Uniform chains,
+    #: decomposition and refinement: 200 masses 0.3 s, 1,000 2.2 s, 4,000 54 s and 2.7 GB
+    #: (the time grows like n³, the memory like n²).
     refined_max_coordinates: int = 4_000
-    #: Largest n·(nonzeros of M, C, K) of a refined scene: the double-double products
-    #: with K take ≈ 1.5e-8 s per unit (measured), so 2e8 is ≈ 3 s per refinement step
-    #: (a dense K of ≈ 600 coordinates; a 4,000-mass chain is 6e7).
+    #: Largest n·(nonzeros of M, C, K) of a sparse refined scene: its double-double products
+    #: take ≈ 6e-8 s per unit and about five are made, so 2e8 is about a minute (a
+    #: 4,000-mass chain is 6.4e7).
     refined_max_products: int = 200_000_000
     #: Largest dense K (rows wider than 2·banded_max_bandwidth + 1) the refined engine
-    #: takes: each refinement step costs 13 float64 n x n products and the float64
-    #: decomposition a dense eigh.
+    #: takes: its products with K are 13 float64 n x n products each (error-free slices),
+    #: ≈ 58 in all; 1,000 coordinates ≈ 10 s, 2,000 ≈ 1 min (reading 4 million entries
+    #: included).
     refined_dense_max_coordinates: int = 2_000
     #: Highest derivative order the refined engine bounds (each order multiplies the
     #: initial-data term of its bound by about ‖M⁻¹K‖).
@@ -159,8 +162,10 @@ class Limits:
     #: the residuals reach the double-double level in 2–3 steps; more only for clusters
     #: whose eigenvalues differ by less than their float64 error.
     refined_max_steps: int = 6
-    #: Largest cluster (eigenvalues closer than close_poles) diagonalised as one block at
-    #: 40 digits by mpmath (≈ k³ multiprecision operations per cluster of k).
+    #: Largest cluster (frequencies closer than close_poles) diagonalised as one block at
+    #: 40 digits by mpmath: ≈ k³ multiprecision operations, 2 ms at k = 2, ≈ 7 s at k = 48.
+    #: A larger cluster is diagonalised in pieces (exact for a repeated eigenvalue; for
+    #: distinct ones its residuals stay at float64's level and the bound grows with t).
     refined_max_cluster: int = 48
     #: Modes summed in float64 per block of x = Φq before the blocks' compensated sum: the
     #: rounding bound γ_b = 3.6e-15 of Σ|φ||q| at b = 32 stays below the target.
@@ -220,6 +225,11 @@ class Limits:
     max_forcing_terms: int = 512
     #: Highest power of t in a forcing entry.
     max_forcing_degree: int = 32
+    #: Most switching times (steps, impulses, delayed pieces) of one forcing entry.
+    max_forcing_delays: int = 32
+    #: Most irrational or symbolic constants (parameters, cos(1/2), √2, e^3) in the terms
+    #: of one forcing entry.
+    max_forcing_constants: int = 12
 
     # -- output: animations, worked-example pages, the explorer ----------------------------
     #: Most masses an animation draws; a larger scene animates a chosen subset (by default
@@ -232,6 +242,11 @@ class Limits:
     #: Most parameter sets a worked-example page precomputes for its sliders (each set is
     #: n x 120 values, about 1.5 kB of JSON per coordinate in the page).
     page_max_grid_sets: int = 400
+    #: Accuracy of the explorer's curves, relative to max(‖x(t)‖∞, S₀): they are drawn, and
+    #: 1e-8 is far below a pixel (1e-3). At the default target the sweep kernel's estimate
+    #: near a drive within its cluster gap of a lightly damped mode (about 1e-10, measured on
+    #: Example 5 with ω = 18) sends the set to the exact solver: 0.4 s instead of 16 ms a move.
+    explore_target: float = 1e-8
 
 
 #: The limits the package ships with.

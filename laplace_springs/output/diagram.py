@@ -279,6 +279,7 @@ class _Label:
     follows: Callable[[np.ndarray, dict[str, float]], np.ndarray]
     owner: str = ""
     rest: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    width: float = 0.0   # the width of the box it was placed in (drawing units)
 
 
 def _candidates(target: Box, width: float, height: float, sides: Sequence[str]) -> list[tuple[float, float]]:
@@ -548,7 +549,8 @@ class _Builder:
             centre, fitted = placer.place(text, size, target, sides, owner)
             artist = self.d.ax.text(centre[0], centre[1], text, ha="center", va="center",
                                     fontsize=12, gid=f"label:{owner}" if owner else "label", **style)
-            self.d._labels.append(_Label(artist, fitted, follows, owner, np.array(centre)))
+            width = text_extent(text)[0] * fitted
+            self.d._labels.append(_Label(artist, fitted, follows, owner, np.array(centre), width))
 
     # -- parts of the chain -----------------------------------------------------------
     def support(self, u: float, v0: float, v1: float, side: int, node: str | None) -> None:

@@ -143,9 +143,10 @@ def diagram_svg(diagram: Diagram, *, width: int = 640) -> str:
             continue
         x, y = text.get_position()
         colour, _ = _colour(_rgba(text.get_color()))
-        size = next((label.size for label in diagram._labels if label.artist is text), 0.28)
+        placed = next((label for label in diagram._labels if label.artist is text), None)
+        size = placed.size if placed is not None else 0.28
         content = mathtext_svg(text.get_text())
-        room = text_extent(text.get_text())[0] * size  # the box the label was placed in
+        room = placed.width if placed is not None else text_extent(text.get_text())[0] * size
         visible = len(re.sub(r"<[^>]*>", "", html.unescape(content)))
         fit = (f' textLength="{room:.3f}" lengthAdjust="spacingAndGlyphs"'
                if 0.62 * visible * size > room else "")  # inline fractions are wider than stacked ones

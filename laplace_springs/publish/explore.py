@@ -6,9 +6,9 @@ parameters or its springs, dashpots and masses, the initial data, a harmonic for
 amplitude and frequency) into ipywidgets sliders. The scene with its knobs as parameters is
 compiled once (:func:`laplace_springs.sweeps.compile.compile_scene`: the coefficients of
 D(λ) and of every numerator as NumPy functions), so a move costs one evaluation of the
-compiled scene at one parameter set (its roots, residues and the curves at 400 times, within
-the same accuracy contract as ``ls.solve``: a set whose estimate misses it is solved
-exactly), the curves and the diagram written as SVG (:mod:`laplace_springs.output.svg`)
+compiled scene at one parameter set (its roots, residues and the curves at 400 times, to
+:attr:`~laplace_springs.limits.Limits.explore_target` of the motion's size, far below a
+pixel: a set whose estimate misses it is solved exactly), the curves and the diagram written as SVG (:mod:`laplace_springs.output.svg`)
 and the closed form x_i(t) = Σ e^{αt}(a cos βt + b sin βt) with the current numbers. About
 5 ms per move on the seed's scenes (``benchmarks/bench_explore.py``).
 
@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..output.chain import latex_symbol, math_label
@@ -209,7 +210,8 @@ class Explorer:
         start = time.perf_counter()
         values = self.values
         rows = parameter_rows(self.compiled, values)
-        x, _, exact, roots, _ = evaluate_rows(self.compiled, rows, self.times)
+        x, _, exact, roots, _ = evaluate_rows(self.compiled, rows, self.times,
+                                              target=limits().explore_target)
         self.positions = x[0]
         self.closed_form = closed_form_latex(self.compiled, rows[0], roots[0], self.scene.names)
         self._plot.value = _curves_svg(self.times, self.positions, self.scene.names)
