@@ -1,0 +1,543 @@
+"""The tiny engine for two to four coordinates: Z = X B X⁻¹ with B block diagonal, and a
+bound on e^{Zt}y₀ − X e^{Bt}X⁻¹y₀ from the residual of the decomposition.
+
+Algorithm
+---------
+The 2n x 2n first-order matrix Z = [[0, σI], [−M⁻¹K/σ, −M⁻¹C]] (formed exactly, σ a
+power of two near the frequency scale, so the scaled state (x, x'/σ) is balanced and the
+scaling exact) is decomposed by ``numpy.linalg.eig``. An eigenvalue whose condition
+number ‖row of V⁻¹‖ (unit eigenvectors) exceeds ``_CLUSTER_CONDITION`` is paired with its
+nearest ill-conditioned neighbour when the two are close (defective and nearly defective
+pairs: critical modes, exceptional points, rigid-body drift). The pair is replaced by a
+2 x 2 block on an orthonormal basis of its invariant subspace (the null space of
+(Z − w₁)(Z − w₂), from an SVD), whose exponential is
+
+    e^{Bt} = e^{μt} [cosh(√d t)·I + sinh(√d t)/√d·N],   μ = tr B/2, N = B − μI, d = −det N:
+
+functions of d that are entire, so nothing cancels when the pair is defective (d = 0
+gives I + tN). The conjugate pairs of a real scene are evaluated once (twice the real
+part), in real arithmetic for the 1 x 1 blocks.
+
+Precision and conditioning (the bound)
+--------------------------------------
+With R = Z X − X B (formed in extended precision, ``numpy.longdouble``, from Z exact to
+2⁻⁶⁴ as hi + lo, with the rounding of that product bounded), F = X⁻¹R, c = X⁻¹y₀ as
+computed and r₀ = X c − y₀ its residual (also in extended precision), the exact motion is
+e^{Zt}y₀ = X e^{(B+F)t}(c − X⁻¹r₀) while the engine computes X e^{Bt} c. With
+‖e^{Bτ}‖ ≤ e^{μτ}p(τ) (μ the largest real part of B's eigenvalues, p = 1 for diagonal
+B and p = 1 + ‖N‖·min(τ, 1/|√d|) with a 2 x 2 block), Gronwall's lemma gives
+
+    ‖e^{(B+F)t} − e^{Bt}‖ ≤ t·φ·p(t)·G(t),   G(t) = e^{μt} p(t) e^{p(t)φt},   φ ≥ ‖F‖,
+
+so coordinate i of the derivative of order k is off by at most
+‖(L_k)_i‖·G(t)(φ t p(t)‖c‖ + ‖X⁻¹r₀‖), L_k the rows of X that give x^{(k)}, plus for
+k = 2 the term ‖(σX_v)_i‖ (φ + u‖B‖) G(t)(‖c‖ + ‖X⁻¹r₀‖) of F itself (and of B's rounding
+in the rows σX_v B that give x''), plus the rounding of the
+evaluation (arguments |w|·(2u t + |lo|), the libm, the sums) and of d. ‖X⁻¹‖ is bounded
+through the computed inverse Y and θ = ‖I − YX‖ < 1/2. Norms are Frobenius norms (upper
+bounds of 2-norms). The bound grows like t·‖F‖ only where the motion does not decay
+(undamped scenes: about 1e-14 to 1e-13 of the scale at t = 100); where it misses the
+target the planner recomputes the time with its next engine. Scenes whose frequencies
+differ by orders of magnitude (one σ cannot balance them) get large bounds and are served
+by the other engines. A decomposition that cannot be bounded (θ ≥ 1/2, a singular basis)
+serves no time and says why (``failure``).
+
+References: Higham, *Functions of Matrices* (SIAM 2008), §10.1–10.2 (perturbation of
+e^{At}); Moler & Van Loan, "Nineteen dubious ways to compute the exponential of a matrix,
+twenty-five years later" (SIAM Review 2003), methods 14–17 and the block approach for
+defective eigenvalues.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from flint import fmpq
+
+from ..kernels.dd import U
+
+__all__ = ["BlockMotion"]
+
+#: Unit roundoff of the extended precision the residuals are formed in (2⁻⁶⁴ where
+#: ``numpy.longdouble`` is x87 80-bit; 2⁻⁵³ where it is float64, which only loosens the
+#: bound).
+_U_LONG = float(np.finfo(np.longdouble).eps) / 2
+#: Eigenvalues whose condition number exceeds this are candidates for a 2 x 2 block:
+#: unblocked, the coefficients grow like the condition number and the bound like its
+#: square times u (30² · 1e-16 ≈ 1e-13 of the scale).
+_CLUSTER_CONDITION = 30.0
+#: A pair is a block only when it is this much closer together than to any other
+#: eigenvalue (its invariant subspace is then well determined) ...
+_CLUSTER_SEPARATION = 0.1
+#: ... and close relative to its own size max(|w₁|, |w₂|, 1e-3·ρ): a conjugate pair ±iω
+#: whose eigenvectors are nearly parallel only because one scaling σ cannot balance
+#: every frequency (ω ≪ σ) is not defective, and a block for it would be far from normal.
+_CLUSTER_CLOSENESS = 0.01
+#: Smallest ratio between the third-smallest and the second-smallest singular value of
+#: (Z − w₁)(Z − w₂) for its null space to be taken as the pair's invariant subspace.
+_SUBSPACE_GAP = 1e3
+#: Largest θ = ‖I − Y X‖ accepted (Y the computed inverse of the basis X).
+_MAX_THETA = 0.5
+#: Second-order terms the first-order rounding bounds neglect: bounds are multiplied by this.
+_SAFETY = 1.02
+
+
+def _norm(a: np.ndarray) -> float:
+    """The Frobenius norm (an upper bound of the 2-norm)."""
+    return math.sqrt(float(np.vdot(a, a).real))
+
+
+def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.eig`` of a real matrix (complex eigenvalues and unit eigenvectors).
+
+    Calls NumPy's LAPACK gufunc (``dgeev``) directly where it exists: the same routine
+    and the same numbers as ``numpy.linalg.eig``, without its 25 µs of argument checks
+    (Z is finite and square here). A failure shows as non-finite eigenvalues.
+    """
+    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "eig", None)
+    if gufunc is None:
+        return np.linalg.eig(Z)
+    w, V = gufunc(Z, signature="d->DD")
+    return w, V
+
+
+def _inv(X: np.ndarray) -> np.ndarray | None:
+    """X⁻¹ (complex) by NumPy's LAPACK gufunc where it exists (as ``numpy.linalg.inv``),
+    or None when X is singular or the inverse is not finite."""
+    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "inv", None)
+    try:
+        Y = np.linalg.inv(X) if gufunc is None else gufunc(X, signature="D->D")
+    except np.linalg.LinAlgError:
+        return None
+    return Y if math.isfinite(float(np.abs(Y).sum())) else None
+
+
+def _exact_float(value: Any) -> tuple[float, float]:
+    """An fmpq as hi + lo: hi correctly rounded, lo the rounded remainder (0 when exact)."""
+    hi = float(value)
+    q = value.q
+    if q & (q - 1) == 0 and abs(value.p) < 2**53:  # a dyadic rational that fits
+        return hi, 0.0
+    num, den = hi.as_integer_ratio()
+    return hi, float(value - fmpq(num, den))
+
+
+_EYES: dict[int, np.ndarray] = {}
+
+
+def _eye(size: int) -> np.ndarray:
+    if size not in _EYES:
+        _EYES[size] = np.eye(size)
+    return _EYES[size]
+
+
+class _Block:
+    """One block of B on ``columns`` of X: 1 x 1 (the rate ``mu``) or 2 x 2 (μI + N with
+    d = −det N formed in extended precision, ``d_error`` its rounding). ``weight`` is 2 for
+    the upper member of a conjugate pair, whose partner is not evaluated (``skip``);
+    ``real`` blocks have real columns and coefficients."""
+
+    __slots__ = ("columns", "mu", "N", "d", "d_error", "weight", "skip", "real")
+
+    def __init__(self, columns: tuple[int, ...], mu: complex, N: np.ndarray | None = None,
+                 d: complex = 0j, d_error: float = 0.0, *, weight: int = 1,
+                 skip: bool = False, real: bool = False) -> None:
+        self.columns, self.mu, self.N, self.d, self.d_error = columns, mu, N, d, d_error
+        self.weight, self.skip, self.real = weight, skip, real
+
+    @property
+    def nu(self) -> float:
+        """‖N‖_F (0 for a 1 x 1 block)."""
+        return 0.0 if self.N is None else _norm(self.N)
+
+    @property
+    def root(self) -> complex:
+        """√d: the block's eigenvalues are μ ± √d."""
+        return complex(np.sqrt(complex(self.d)))
+
+    @property
+    def growth(self) -> float:
+        """The largest real part of the block's eigenvalues."""
+        return self.mu.real + (0.0 if self.N is None else abs(self.root.real))
+
+    def reach(self, t: np.ndarray) -> np.ndarray:
+        """min(t, 1/|√d|) ≥ |sinh(√d t)/√d| / cosh(Re √d·t)."""
+        size = abs(self.root)
+        return np.minimum(t, 1 / size) if size > 0 else t
+
+
+class BlockMotion:
+    """x(t) of a scene of two to four coordinates (see the module notes).
+
+    Parameters
+    ----------
+    n : int
+        Coordinates.
+    A, B : dict
+        The nonzero entries of M⁻¹K and M⁻¹C, exact (python-flint fmpq).
+    x0, v0 : numpy.ndarray
+        The initial data rounded to float64.
+
+    Attributes
+    ----------
+    poles : numpy.ndarray
+        The eigenvalues of Z (the poles).
+    failure : str or None
+        Why the decomposition serves no time (every bound infinite), or None.
+    """
+
+    def __init__(self, n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any],
+                 x0: np.ndarray, v0: np.ndarray) -> None:
+        self.failure: str | None = None
+        self.n = n
+        size = 2 * n
+        largest = max([abs(float(v)) for v in A.values()] or [0.0])
+        damping = max([abs(float(v)) for v in B.values()] or [0.0])
+        scale = max(math.sqrt(largest), damping / 2)
+        self.sigma = sigma = 2.0 ** round(math.log2(scale)) if 0 < scale < math.inf else 1.0
+        hi = [[0.0] * size for _ in range(size)]
+        lo = [[0.0] * size for _ in range(size)]
+        for i in range(n):
+            hi[i][n + i] = sigma
+        inverse = fmpq(*(1 / sigma).as_integer_ratio())
+        for entries, column, factor in ((A, 0, -inverse), (B, n, fmpq(-1))):
+            for (i, j), value in entries.items():
+                hi[n + i][column + j], lo[n + i][column + j] = _exact_float(value * factor)
+        self.Z = Z = np.array(hi)
+        self.Z_lo = np.array(lo) if any(any(row) for row in lo) else None
+        self.y0 = np.concatenate([x0, v0 / sigma])
+        w, V = _eig(Z)
+        self.poles = w
+        if not math.isfinite(float(np.abs(w).sum())):
+            self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
+            return
+        Y = _inv(V)
+        self.blocks, X = self._blocks(w, V, Y)
+        self._finish(X, Y if X is V else None)
+
+    # -- the decomposition -------------------------------------------------------------
+    def _blocks(self, w: np.ndarray, V: np.ndarray,
+                Y: np.ndarray | None) -> tuple[list[_Block], np.ndarray]:
+        """1 x 1 blocks for well-conditioned eigenvalues, 2 x 2 blocks for defective pairs
+        (X is V itself when there are none)."""
+        size = w.size
+        pairs: dict[int, tuple[int, int]] = {}
+        # ‖row of Y‖₂ ≤ √size·max|Y_ij|: rows need measuring only beyond that
+        if Y is None or math.sqrt(size) * float(np.abs(Y).max()) > _CLUSTER_CONDITION:
+            condition = (np.full(size, np.inf) if Y is None
+                         else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
+            pairs = self._pairs(w, condition)
+        X = V.copy() if pairs else V
+        blocks: list[_Block] = []
+        done: set[int] = set()
+        rates: list[complex] = w.tolist()
+        for j, rate in enumerate(rates):
+            if j in done:
+                continue
+            if j in pairs:
+                found = self._cluster(w, pairs[j], X)
+                if found is not None:
+                    blocks += found
+                    done.update(c for b in found for c in b.columns)
+                    continue
+            if rate.imag == 0:
+                blocks.append(_Block((j,), rate, real=True))
+            elif rate.imag > 0 and j + 1 < size and rates[j + 1] == rate.conjugate():
+                blocks.append(_Block((j,), rate, weight=2))
+                blocks.append(_Block((j + 1,), rates[j + 1], skip=True))
+                done.add(j + 1)
+            else:  # not LAPACK's layout of a conjugate pair: evaluated as a complex term
+                blocks.append(_Block((j,), rate))
+            done.add(j)
+        return blocks, X
+
+    @staticmethod
+    def _pairs(w: np.ndarray, condition: np.ndarray) -> dict[int, tuple[int, int]]:
+        """Ill-conditioned eigenvalues paired with their nearest ill-conditioned neighbour,
+        when the two are mutually nearest, much closer to each other than to the rest, and
+        close relative to their size."""
+        rates: list[complex] = w.tolist()
+        flagged = [j for j in range(w.size) if condition[j] > _CLUSTER_CONDITION]
+        radius = max(abs(rate) for rate in rates)
+        nearest: dict[int, int] = {}
+        for j in flagged:
+            others = [k for k in flagged if k != j]
+            if others:
+                nearest[j] = min(others, key=lambda k: (abs(rates[j] - rates[k]), k))
+        pairs: dict[int, tuple[int, int]] = {}
+        for j, k in nearest.items():
+            if nearest.get(k) != j or j > k:
+                continue
+            gap = abs(rates[j] - rates[k])
+            middle = (rates[j] + rates[k]) / 2
+            rest = [abs(rates[i] - middle) for i in range(w.size) if i not in (j, k)]
+            size = max(abs(rates[j]), abs(rates[k]), 1e-3 * radius)
+            if gap <= _CLUSTER_SEPARATION * min(rest, default=math.inf) \
+                    and gap <= _CLUSTER_CLOSENESS * size:
+                pairs[j] = pairs[k] = (j, k)
+        return pairs
+
+    def _cluster(self, w: np.ndarray, pair: tuple[int, int],
+                 X: np.ndarray) -> list[_Block] | None:
+        """The 2 x 2 block of a pair (with its conjugate pair's, for a complex pair); None
+        when its invariant subspace is not well determined."""
+        j, k = pair
+        real = (w[j].imag == 0 and w[k].imag == 0) or w[k] == np.conj(w[j])
+        if not real:
+            if w[j].imag < 0 or w[k].imag < 0:
+                return None  # the lower pair: built with the upper one
+            if max(j, k) + 1 >= w.size or w[j + 1] != np.conj(w[j]) or w[k + 1] != np.conj(w[k]):
+                return None
+        Z = self.Z
+        eye = _eye(Z.shape[0])
+        P = (Z - w[j] * eye) @ (Z - w[k] * eye)
+        _, singular, Vh = np.linalg.svd(P.real if real else P)
+        if singular.size < 3 or singular[-3] < _SUBSPACE_GAP * singular[-2]:
+            return None
+        basis = Vh[-2:].conj().T
+        block = self._block((j, k), basis)
+        X[:, [j, k]] = basis
+        if real:
+            block.real = True
+            return [block]
+        mirror = (j + 1, k + 1)
+        X[:, list(mirror)] = basis.conj()
+        block.weight = 2
+        assert block.N is not None
+        twin = _Block(mirror, block.mu.conjugate(), block.N.conj(), block.d.conjugate(),
+                      block.d_error, skip=True)
+        return [block, twin]
+
+    def _block(self, columns: tuple[int, int], basis: np.ndarray) -> _Block:
+        """μI + N from the projection basisᴴ Z basis (the trace of N exactly zero), and
+        d = −det N = a² + bc in extended precision with the bound on its rounding."""
+        B = basis.conj().T @ self.Z @ basis
+        mu = (B[0, 0] + B[1, 1]) / 2
+        a = (B[0, 0] - B[1, 1]) / 2
+        N = np.array([[a, B[0, 1]], [B[1, 0], -a]])
+        long = N.astype(np.clongdouble)
+        d = complex(long[0, 0] * long[0, 0] + long[0, 1] * long[1, 0])
+        size = abs(a) ** 2 + abs(B[0, 1] * B[1, 0])
+        return _Block(columns, complex(mu), N, d, U * abs(d) + 8 * _U_LONG * size)
+
+    def _finish(self, X: np.ndarray, Y: np.ndarray | None) -> None:
+        """Coefficients, residuals and the constants of the bound. The rounding of each
+        product is bounded through norms (‖|A||B|‖_F ≤ ‖A‖_F‖B‖_F)."""
+        size = X.shape[0]
+        self.X = X
+        blocks = self.blocks
+        if all(block.N is None for block in blocks):  # B = diag(w): XB scales X's columns
+            rates = [0j] * size
+            for block in blocks:
+                rates[block.columns[0]] = block.mu
+            diagonal = np.array(rates)
+            self.B = np.diag(diagonal)
+            B_long = None
+        else:  # μI + N on 2 x 2 blocks, exactly in extended precision for the residual
+            B_long = np.zeros((size, size), dtype=np.clongdouble)
+            for block in blocks:
+                if block.N is None:
+                    B_long[block.columns[0], block.columns[0]] = block.mu
+                else:
+                    (i, j), N = block.columns, block.N.astype(np.clongdouble)
+                    mu = np.clongdouble(block.mu)
+                    B_long[i, i], B_long[i, j] = mu + N[0, 0], N[0, 1]
+                    B_long[j, i], B_long[j, j] = N[1, 0], mu + N[1, 1]
+            self.B = B_long.astype(complex)
+        B_norm = _norm(self.B)
+        self.B_rounding = U * B_norm
+        if Y is None:
+            Y = _inv(X)
+            if Y is None:
+                self.failure = "the eigenvector basis is singular"
+                return
+        coefficients: list[complex] = (Y @ self.y0).tolist()
+        for block in blocks:  # the coefficients of a real motion
+            for i in block.columns:
+                if block.real:
+                    coefficients[i] = complex(coefficients[i].real)
+                elif block.weight == 2:
+                    coefficients[i + 1] = coefficients[i].conjugate()
+        self.c = c = np.array(coefficients)
+        X_norm, Y_norm = _norm(X), _norm(Y)
+        gamma = (2 * size + 4) * U
+        theta = _norm(_eye(size) - Y @ X) + gamma * Y_norm * X_norm
+        if not theta < _MAX_THETA:
+            self.failure = f"the basis is too ill-conditioned (‖I − X⁻¹X‖ = {theta:.2g})"
+            return
+        inverse = Y_norm / (1 - theta)  # ≥ ‖X⁻¹‖₂
+        # R = Z X − X B and r₀ = X c − y₀ in extended precision, Z exact to 2⁻⁶⁴
+        X_long = X.astype(np.clongdouble)
+        Z_long = self.Z.astype(np.longdouble)
+        if self.Z_lo is not None:
+            Z_long += self.Z_lo
+        XB = X_long * diagonal.astype(np.clongdouble) if B_long is None else X_long @ B_long
+        R = (Z_long @ X_long - XB).astype(complex)
+        R_norm = _norm(R)
+        R_error = ((2 * size + 6) * _U_LONG * (_norm(self.Z) + B_norm) * X_norm
+                   + U * R_norm)
+        phi = (_norm(Y @ R) + gamma * Y_norm * R_norm + Y_norm * R_error
+               + theta * inverse * (R_norm + R_error))
+        r0 = _norm((X_long @ c.astype(np.clongdouble) - self.y0).astype(complex))
+        c_norm, y0_norm = _norm(c), _norm(self.y0)
+        # r₀'s rounding; y₀ holds the exact data rounded once
+        r0_error = (2 * size + 4) * _U_LONG * (X_norm * c_norm + y0_norm) + U * (y0_norm + r0)
+        self.phi = phi * _SAFETY
+        self.rho0 = inverse * (r0 + r0_error) * _SAFETY
+        self.c_norm = c_norm
+        self.growth = max(block.growth for block in blocks)
+        self.speed = max(abs(block.mu) + block.nu for block in blocks)
+        self._orders: dict[int, _Order] = {}
+
+    # -- evaluation --------------------------------------------------------------------
+    def _order(self, order: int) -> _Order:
+        """The weights of derivative ``order``: x^(order) = L e^{Bt} c with L the rows of
+        X (order 0), σ times X's velocity rows (1), or those times B (2)."""
+        if order not in self._orders:
+            n, X, sigma = self.n, self.X, self.sigma
+            L = X[:n] if order == 0 else sigma * X[n:] if order == 1 else sigma * X[n:] @ self.B
+            F_rows = sigma * np.sqrt((np.abs(X[n:]) ** 2).sum(axis=1)) if order == 2 else None
+            self._orders[order] = _Order(L, self.blocks, self.c, F_rows)
+        return self._orders[order]
+
+    def evaluate(self, t: np.ndarray, lo: np.ndarray | None,
+                 order: int) -> tuple[np.ndarray, np.ndarray]:
+        """Values and bounds at times t + lo (lo: the low parts, or None for zero): the
+        values are taken at t, the bounds cover the shift (|lo| ≤ u·t)."""
+        n = self.n
+        if self.failure is not None:
+            return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
+        weights = self._order(order)
+        if weights.rates.size:
+            E = np.exp(np.multiply.outer(weights.rates.real, t))
+            phases = np.multiply.outer(weights.rates.imag, t)
+            EC, ES = E * np.cos(phases), E * np.sin(phases)
+            values = weights.real[0] * EC[0]
+            if weights.oscillating[0]:
+                values -= weights.imag[0] * ES[0]
+            for j in range(1, weights.rates.size):  # the same order of sums for every time
+                values += weights.real[j] * EC[j]
+                if weights.oscillating[j]:
+                    values -= weights.imag[j] * ES[j]
+        else:
+            values = np.zeros((n, t.size))
+        for block, g_C, g_S, _ in weights.doubles:
+            E = np.exp(block.mu * t)
+            root = block.root
+            if root == 0:
+                C, S = np.ones_like(t), t
+            else:
+                C, S = np.cosh(root * t), np.sinh(root * t) / root
+            values += (E * C * g_C + E * S * g_S).real
+        return values, self._bounds(weights, t)
+
+    def _growth_factor(self, t: np.ndarray) -> tuple[np.ndarray, float]:
+        """q(t) with ‖e^{Bτ}‖ ≤ e^{μτ}q(τ) for τ ≤ t, q nondecreasing, and ν = max ‖N‖.
+
+        A 2 x 2 block growing like e^{g τ}(1 + ν min(τ, 1/|√d|)) with g = μ − a below the
+        top rate μ contributes at most its largest e^{−aτ}(1 + ντ), (ν/a)e^{a/ν − 1} when
+        ν > a (else 1), and at most 1 + ν·min(t, 1/|√d|) by time t; a 1 x 1 block 1.
+        """
+        q = np.ones_like(t)
+        nu = 0.0
+        for block in self.blocks:
+            if block.N is None or block.skip:
+                continue
+            size = block.nu
+            nu = max(nu, size)
+            linear = 1 + size * block.reach(t)
+            gap = self.growth - block.growth
+            if gap > 0 and size > gap:
+                linear = np.minimum(linear, size / gap * math.exp(gap / size - 1))
+            elif gap > 0:
+                linear = np.ones_like(t)
+            q = np.maximum(q, linear)
+        return q, nu
+
+    def _bounds(self, weights: _Order, t: np.ndarray) -> np.ndarray:
+        """The decomposition's error, the rounding of the evaluation and of d (times
+        _SAFETY). e^{wt}'s argument is off by |w|·(2u·t + |lo|) with |lo| ≤ u·t: relative
+        3.03u·|w|·t (e^δ − 1 ≤ 1.0001δ where e^{wt} neither underflows nor overflows);
+        the libm, the product with the weight, the real part and the sum over 2n terms
+        add (2n + 8)u."""
+        phi = self.phi
+        shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t
+        if not weights.doubles:  # p = 1
+            decay = np.exp(self.growth * t)
+            G = np.exp((self.growth + phi) * t) * _SAFETY
+            bounds = np.multiply.outer(weights.rows, G * (phi * self.c_norm * t + self.rho0))
+            bounds += np.multiply.outer(weights.single_size, decay * shift * _SAFETY)
+            if weights.F_rows is not None:
+                bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
+                                            * (self.c_norm + self.rho0) * G)
+            return bounds
+        q, nu = self._growth_factor(t)
+        decay = np.exp(self.growth * t)
+        spread = np.exp(q * phi * t)
+        G = decay * q * spread
+        # ∫₀ᵗ q(t − s) q(s) ds ≤ t·q(t)², and ≤ t(1 + νt + (νt)²/6) as q(τ) ≤ 1 + ντ
+        nu_t = nu * t
+        integral = np.minimum(t * q * q, t * (1 + nu_t + nu_t * nu_t / 6))
+        bounds = np.multiply.outer(weights.rows, decay * spread * (phi * self.c_norm) * integral
+                                   + G * self.rho0)
+        if weights.F_rows is not None:
+            bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
+                                        * (self.c_norm + self.rho0) * G)
+        bounds += np.multiply.outer(weights.single_size, decay * shift)
+        for block, g_C, g_S, (rows, c_norm, Nc_norm) in weights.doubles:
+            size = abs(block.root)
+            envelope = np.exp(block.growth * t)  # ≥ e^{Re μ t}·cosh(Re √d·t)
+            reach = block.reach(t)                # |S| ≤ reach·cosh(Re √d·t)
+            # cosh and sinh of √d·t: the argument's rounding moves them by ≤ 2u|√d|t
+            # (relative to their envelopes), the libm by 4u
+            rounding = envelope * (shift + (2 * size * t + 4) * U)
+            bounds += np.multiply.outer(np.abs(g_C[:, 0]), rounding)
+            bounds += np.multiply.outer(np.abs(g_S[:, 0]), rounding * reach)
+            # the rounding of d: ∂C/∂d = t·S/2 and ∂S/∂d = (tC − S)/2d, or by the series
+            # |∂S/∂d| ≤ t³/4·cosh(√|d| t) ≤ 0.39t³ where |√d|t ≤ 1
+            dS = (np.where(size * t <= 1, 0.39 * t ** 3, (t + reach) / (2 * size * size))
+                  if size > 0 else 0.39 * t ** 3)
+            bounds += np.multiply.outer(block.weight * rows, block.d_error * envelope
+                                        * (t / 2 * reach * c_norm + dS * Nc_norm))
+        return bounds * _SAFETY
+
+
+class _Order:
+    """The weights of one derivative order (see :meth:`BlockMotion._order`).
+
+    ``rates`` of the evaluated 1 x 1 blocks, with the ``real`` and ``imag`` parts of their
+    weights g_j = weight·L_j c_j (one column (n, 1) per block) and whether they oscillate;
+    ``doubles``: per 2 x 2 block (block, L_b c_b, L_b N c_b as columns, (row norms of L_b,
+    ‖c_b‖, ‖N c_b‖)); ``single_size`` Σ_j |g_j| per row; ``rows`` the row norms of L;
+    ``F_rows`` σ‖(X's velocity rows)_i‖ for order 2.
+    """
+
+    def __init__(self, L: np.ndarray, blocks: list[_Block], c: np.ndarray,
+                 F_rows: np.ndarray | None) -> None:
+        rates, columns, factors, doubles = [], [], [], []
+        for block in blocks:
+            if block.skip:
+                continue
+            if block.N is None:
+                rates.append(block.mu)
+                columns.append(block.columns[0])
+                factors.append(block.weight * c[block.columns[0]])
+            else:
+                cols = list(block.columns)
+                rows, coefficient = L[:, cols], c[cols]
+                Nc = block.N @ coefficient
+                doubles.append((block, block.weight * (rows @ coefficient)[:, None],
+                                block.weight * (rows @ Nc)[:, None],
+                                (np.sqrt((np.abs(rows) ** 2).sum(axis=1)), _norm(coefficient),
+                                 _norm(Nc))))
+        self.rates = np.array(rates, dtype=complex)
+        g = L[:, columns] * np.array(factors, dtype=complex)  # (n, blocks)
+        self.real = [np.ascontiguousarray(g[:, [j]].real) for j in range(len(rates))]
+        self.imag = [np.ascontiguousarray(g[:, [j]].imag) for j in range(len(rates))]
+        self.oscillating = [rate.imag != 0 for rate in rates]
+        self.doubles = doubles
+        self.single_size = np.abs(g).sum(axis=1)
+        self.rows = np.sqrt((np.abs(L) ** 2).sum(axis=1))
+        self.F_rows = F_rows
