@@ -6,8 +6,8 @@ import pytest
 import sympy as sp
 
 import laplace_springs as ls
-from laplace_springs.exact.algebraic import numeric_value
 from laplace_springs.exact.sylvester import cos_sqrt, expm, first_order_matrix, sinc_sqrt
+from laplace_springs.numeric.mp_expr import numeric_value
 
 
 @pytest.mark.parametrize("name", ["vertical-pair", "wall-pair"])

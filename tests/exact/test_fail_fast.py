@@ -19,11 +19,11 @@ import sympy as sp
 import laplace_springs as ls
 from laplace_springs.bench.reference import reference_motion, relative_error
 from laplace_springs.exact import assembly
-from laplace_springs.exact.algebraic import numeric_value
 from laplace_springs.exact.assembly import exact_motion
 from laplace_springs.exact.partial_fractions import partial_fractions
 from laplace_springs.exact.screening import screen_scene
 from laplace_springs.limits import limits
+from laplace_springs.numeric.mp_expr import numeric_value
 
 s, t = sp.symbols("s t")
 a = sp.Symbol("a")

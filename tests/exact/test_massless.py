@@ -21,11 +21,11 @@ from hypothesis import strategies as st
 
 import laplace_springs as ls
 from laplace_springs.bench.reference import relative_error
-from laplace_springs.exact.algebraic import numeric_value
 from laplace_springs.exact.assembly import ExactMotion
 from laplace_springs.exact.jumps import initial_jump, jump_residuals
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.scene_files import scene_from_toml_text
+from laplace_springs.numeric.mp_expr import numeric_value
 
 TIMES = ["0", "0.25", "1", "3.5", "10"]
 

@@ -14,7 +14,6 @@ import mpmath
 import pytest
 import sympy as sp
 
-from laplace_springs.exact.algebraic import numeric_value
 from laplace_springs.exact.sylvester import (
     cos_sqrt,
     expm,
@@ -27,6 +26,7 @@ from laplace_springs.exact.sylvester import (
 )
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.numbers import TIME
+from laplace_springs.numeric.mp_expr import numeric_value
 
 t = sp.Symbol("t")
 IU, R = sp.I, sp.Rational
