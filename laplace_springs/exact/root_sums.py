@@ -71,7 +71,7 @@ _REAL_FUNCTIONS = (sp.exp, sp.sin, sp.cos, sp.sinh, sp.cosh)
 
 
 def _coefficients(poly: sp.Poly) -> list[sp.Expr]:
-    return [poly.domain.to_sympy(c) for c in poly.all_coeffs()]
+    return list(poly.all_coeffs())  # already SymPy numbers (to_sympy again fails over ZZ_I)
 
 
 def is_rational_poly(poly: sp.Poly) -> bool:

@@ -341,3 +341,14 @@ def test_an_irreducible_cubic_inverts_fast_and_right():
             numeric = _numeric_inverse(transform, when)
             assert _close(complex(sp.N(f.subs(t, when), 30)), complex(numeric), rel=1e-14)
     assert elapsed < 2  # 0.02 s measured; SymPy's own inverse takes about 17 s
+
+
+def test_a_sum_over_roots_with_a_plain_symbol_at_a_complex_value():
+    q = sp.Symbol("q")  # s^3 + q has no closed-form roots in q: the inverse sums over them
+    f, conditions = ls.inverse_laplace(q / (s**3 + q), s, t, conditions=True)
+    value = sp.Rational(1, 3) + sp.I / 5
+    transform = _numeric(q.xreplace({q: value}) / (s**3 + value), s)
+    with mpmath.workdps(30):
+        for when in T_POINTS:
+            ours = complex(sp.N(f.xreplace({q: value}).subs(t, when), 30))
+            assert _close(ours, complex(_numeric_inverse(transform, when, True)), rel=1e-14)
