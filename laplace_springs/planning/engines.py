@@ -134,9 +134,25 @@ def _size(facts: SceneFacts, field: str, what: str, order: bool = False) -> str 
     return None
 
 
-def _tiny_refusal(facts: SceneFacts, request: Request) -> str | None:
-    return (_numeric(facts) or _size(facts, "tiny_max_coordinates", "coordinates")
-            or (None if facts.rational else "needs rational entries"))
+def _quoted_refusal(name: str) -> Callable[[SceneFacts, Request], str | None]:
+    """The refusal an engine module quoted for the scene (numeric/<name>.py decides)."""
+    def refusal(facts: SceneFacts, request: Request) -> str | None:
+        if why := _numeric(facts):
+            return why
+        quote = facts.quote(name)
+        if quote is None:
+            return f"the {name} engine has not quoted this scene"
+        return quote.refusal
+    return refusal
+
+
+def _quoted_cost(name: str) -> Callable[[SceneFacts, Request], Cost]:
+    """The cost model an engine module quoted: its build, then a cost per time."""
+    def cost(facts: SceneFacts, request: Request) -> Cost:
+        quote = facts.quote(name)
+        build, per_time = (quote.build, quote.per_time) if quote else (math.inf, 0.0)
+        return Cost(build, request.count * per_time * (1 + request.order / 3))
+    return cost
 
 
 def _certified_refusal(facts: SceneFacts, request: Request) -> str | None:
@@ -234,10 +250,6 @@ def _run(request: Request, per_value: float, n: int) -> float:
     return request.count * max(n, 1) * per_value
 
 
-def _tiny_cost(facts: SceneFacts, request: Request) -> Cost:
-    return Cost(5e-5, _run(request, 4e-8 * (2 * facts.n), facts.n))
-
-
 def _certified_cost(facts: SceneFacts, request: Request) -> Cost:
     """Roots and residues, then the pole sums' Newton data on first use (measured: 8-mass
     chain 3.5 ms + 34 ms; 50-mass chain 0.1 s + 1.9 s)."""
@@ -288,11 +300,8 @@ def _refined_refusal(facts: SceneFacts, request: Request) -> str | None:
     derivative order beyond Limits.refined_max_order."""
     if why := _symmetric_refusal(facts, request):
         return why
-    quote = facts.quote("refined")
-    if quote is None:
-        return "the refined engine has not quoted this scene"
-    if quote.refusal is not None:
-        return quote.refusal
+    if why := _quoted_refusal("refined")(facts, request):
+        return why
     most = limits().refined_max_order
     if request.order > most:
         return f"derivative order {request.order} > Limits.refined_max_order = {most}"
@@ -302,10 +311,8 @@ def _refined_refusal(facts: SceneFacts, request: Request) -> str | None:
 def _refined_cost(facts: SceneFacts, request: Request) -> Cost:
     """The engine's own model (numeric/refined.refined_cost): decomposition and refinement,
     then a cost per time that does not depend on t; a third more per derivative order."""
-    quote = facts.quote("refined")
-    build, per_time = (quote.build, quote.per_time) if quote else (1e-3 + 2e-7 * facts.n**3, 0.0)
-    return Cost(build, request.count * per_time * (1 + request.order / 3),
-                3 * _DOUBLE * facts.n * facts.n)
+    quoted = _quoted_cost("refined")(facts, request)
+    return Cost(quoted.build, quoted.run, 3 * _DOUBLE * facts.n * facts.n)
 
 
 def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
@@ -328,7 +335,7 @@ def _ball_cost(facts: SceneFacts, request: Request) -> Cost:
 #: routes/engines.py and one entry here.
 ENGINES: tuple[Engine, ...] = (
     Engine("tiny", 0, "closed-form poles of a small scene in float64 with a residual bound",
-           _tiny_refusal, _tiny_cost, precision=2e-14),
+           _quoted_refusal("tiny"), _quoted_cost("tiny"), precision=2e-14),
     Engine("certified", 0, "poles and residues certified by python-flint, float64 pole sums",
            _certified_refusal, _certified_cost, precision=2e-15),
     Engine("classical", 0, "real modes of the symmetric eigenproblem of size n",

@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from ..limits import limits
 from ..model.scene import Scene
 from ..numeric.chebyshev import rayleigh_coefficients
 from ..numeric.classical import classical_damping
@@ -26,6 +27,7 @@ from ..numeric.first_order import (
 )
 from ..numeric.krylov import krylov_refusal
 from ..numeric.refined import refined_cost, refined_refusal
+from ..numeric.tiny import tiny_cost, tiny_refusal
 
 __all__ = ["SceneFacts", "Quote", "scene_facts"]
 
@@ -143,13 +145,20 @@ def _facts(scene: Scene) -> SceneFacts:
     diagonal = all(i == j for i, j in M) and len(M) == scene.n and not massless_nodes(scene)
     nnz = sum(len(scene_entries(scene, name)) for name in ("M", "C", "K"))
     stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
-    quotes = (_refined_quote(scene),) if classical and not symbolic else ()
+    quotes = ((_refined_quote(scene),) if classical and not symbolic else ()) + (
+        (_tiny_quote(scene),) if unforced and scene.n <= limits().tiny_max_coordinates else ())
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
                       rational=not symbolic and rational, first_order=first_order,
                       classical=classical, rayleigh=rayleigh,
                       krylov=unforced and rational and krylov_refusal(scene) is None,
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
                       pole_bound=poles, sampled=sampled, quotes=quotes)
+
+
+def _tiny_quote(scene: Scene) -> Quote:
+    why = tiny_refusal(scene, t_max=0.0, count=0, order=0)
+    build = tiny_cost(scene, t_max=0.0, count=0, order=0)
+    return Quote("tiny", why, build, tiny_cost(scene, t_max=0.0, count=1, order=0) - build)
 
 
 def _refined_quote(scene: Scene) -> Quote:

@@ -27,6 +27,7 @@ from ..numeric.classical import classical_motion
 from ..numeric.krylov import krylov_motion
 from ..numeric.modal import decompose_modal
 from ..numeric.refined import refined_motion
+from ..numeric.tiny import tiny_motion
 from ..planning.engines import Refusal
 from ..planning.execute import Evaluator, register_engine
 from ..solution import Solution
@@ -98,6 +99,8 @@ _FLOAT_SOLUTIONS: dict[str, Callable[[Any, str, float], Solution | Refusal]] = {
         scene, krylov_motion(scene), reason=reason, target=target),
     "refined": lambda scene, reason, target: ModalSolution(
         scene, refined_motion(scene), reason=reason, target=target),
+    "tiny": lambda scene, reason, target: ModalSolution(
+        scene, tiny_motion(scene), reason=reason, target=target),
 }
 
 
