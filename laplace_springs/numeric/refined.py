@@ -104,6 +104,7 @@ from typing import Any
 import mpmath
 import numpy as np
 import sympy as sp
+from flint import fmpq, fmpq_mat
 
 from ..kernels.dd import U, dd_add, dd_div, dd_mul, dd_sqrt, dd_sum, phase, two_prod, two_sum
 from ..limits import limits
@@ -482,8 +483,6 @@ def _dominant(entries: dict[tuple[int, int], Any], n: int, slots: _Slots) -> boo
 def _mass_floor(n: int, entries: dict[tuple[int, int], Any]) -> float:
     """A proved lower bound on λ_min(M) for a dense M (n ≤ Limits.dense_check_max_coordinates):
     half the float64 estimate, checked by the signs of the leading minors of M − σI."""
-    from flint import fmpq, fmpq_mat
-
     dense = np.zeros((n, n))
     for (i, j), value in entries.items():
         dense[i, j] = _pair(value)[0]
