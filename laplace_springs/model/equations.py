@@ -14,8 +14,10 @@ x(0) = x0, x'(0) = v0:
 
 Text holds one statement per line, or several separated by ``;`` or by commas (a
 Mathematica list ``{eqn1, eqn2, x[0] == d1}`` reads too); ``#`` and ``(* ... *)`` start
-comments. A statement is an equation of motion, an initial condition, a value
-``k1 = 400`` (a name that is no unknown; later statements use the value) or the
+comments. The seed's Mathematica program reads as printed: labelled equations
+``eqn1 = ... == 0`` (and the labels listed again), ``ClearAll`` and ``sol = DSolve[...]`` are
+passed over, ``\\[Mu]1`` is the name ``mu1``. A statement is an equation of motion, an
+initial condition, a value ``k1 = 400`` (a name that is no unknown; later statements use the value) or the
 declaration ``parameters: k, c`` (names kept as positive symbols). The unknown
 functions are the names written with primes or an argument (``x1''``, ``x1(t)``,
 ``x[t]``) or listed in ``coordinates``. Each side is read by the package's safe parser
@@ -75,6 +77,9 @@ _DEFINITION = re.compile(rf"^\s*({_NAME})\s*$")
 _DECLARATION = re.compile(r"^\s*parameters\s*:(.*)$")
 _COMMENT = re.compile(r"\(\*.*?\*\)|#[^\n]*", re.S)
 _MATHEMATICA_NAME = re.compile(r"\\\[([A-Za-z]+)\]")
+#: Mathematica commands that are no equations: ClearAll, and the solver call itself.
+_COMMAND = re.compile(rf"\bClearAll\b(\s*\[)?|(?:\b{_NAME}\s*=\s*)?\b(?:N?DSolve)\b(\s*\[)")
+_LIST_ASSIGNMENT = re.compile(rf"\b{_NAME}\s*=\s*\{{")
 
 
 @dataclass(frozen=True)
@@ -244,10 +249,28 @@ def _split_top_level(text: str) -> list[str]:
     return [piece.strip() for piece in pieces if piece.strip()]
 
 
+def _without_commands(text: str) -> str:
+    """The seed's Mathematica program reduced to its statements: ``ClearAll``, ``ClearAll[...]``
+    and ``sol = DSolve[...]`` (or ``NDSolve``) dropped, ``eqns = {...}`` read as the list."""
+    out, position = [], 0
+    for match in _COMMAND.finditer(text):
+        if match.start() < position:
+            continue
+        out.append(text[position:match.start()])
+        position = match.end()
+        if match.group(1) or match.group(2):  # skip the command's bracketed arguments
+            depth = 1
+            while position < len(text) and depth:
+                depth += {"[": 1, "]": -1}.get(text[position], 0)
+                position += 1
+    out.append(text[position:])
+    return _LIST_ASSIGNMENT.sub("{", "".join(out))
+
+
 def _text_statements(text: str) -> tuple[list[str], list[str]]:
     """(declared names, statements) of a text: comments removed, declarations apart,
     Mathematica's named characters written as names (``\\[Mu]1`` is ``mu1``)."""
-    text = _MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(), _COMMENT.sub("", text))
+    text = _without_commands(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(), _COMMENT.sub("", text)))
     declared: list[str] = []
     lines = []
     for line in text.splitlines():
@@ -259,11 +282,20 @@ def _text_statements(text: str) -> tuple[list[str], list[str]]:
     return declared, _split_top_level("\n".join(lines))
 
 
+def _label(statement: str) -> str | None:
+    """The label of a Mathematica ``eqn1 = left == right``, else None."""
+    parts = re.split(r"(==|=)", statement)
+    if len(parts) == 5 and parts[1] == "=" and parts[3] == "==":
+        match = _DEFINITION.match(parts[0])
+        return match.group(1) if match else None
+    return None
+
+
 def _sides(statement: str) -> tuple[str, str]:
     """(left, right) of ``left = right`` or ``left == right``; a Mathematica label
     ``eqn1 = left == right`` is dropped."""
     parts = re.split(r"(==|=)", statement)
-    if len(parts) == 5 and parts[1] == "=" and parts[3] == "==" and _DEFINITION.match(parts[0]):
+    if _label(statement) is not None:
         parts = parts[2:]
     if len(parts) != 3:
         count = (len(parts) - 1) // 2
@@ -277,6 +309,7 @@ class _TextReader:
     def __init__(self, unknowns: _Unknowns, variables: dict[str, sp.Expr]) -> None:
         self.unknowns = unknowns
         self.variables = variables
+        self.labels: set[str] = set()
         differentiate = unknowns.differentiate
         self.functions = {**ALLOWED_FUNCTIONS, **PERIODIC_FUNCTIONS,
                           "Derivative": differentiate, "diff": differentiate}
@@ -288,7 +321,13 @@ class _TextReader:
                                 expected="an expression in t and the unknowns", unknowns=self.builders)
 
     def statement(self, statement: str) -> _Statement | None:
-        """An equation or initial condition; None for a value ``k1 = 400`` (stored)."""
+        """An equation or initial condition; None for a value ``k1 = 400`` (stored) and for
+        a label ``eqn1`` of an equation already read (the seed's ``{eqn1, eqn2, ...}``)."""
+        if statement.strip() in self.labels:
+            return None
+        label = _label(statement)
+        if label is not None:
+            self.labels.add(label)
         left, right = _sides(statement)
         definition = _DEFINITION.match(left)
         if definition and definition.group(1) not in self.unknowns.names and definition.group(1) != "t":
@@ -308,8 +347,8 @@ def _unknown_names(text: str, excluded: Iterable[str]) -> list[str]:
     """Names written as functions (x1'', x1(t), x[t]) that are not functions or values."""
     skip = {*ALLOWED_FUNCTIONS, *PERIODIC_FUNCTIONS, "Derivative", "diff", "t", *excluded}
     found: list[str] = []
-    for match in _CALLED.finditer(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(),
-                                                        _COMMENT.sub("", text))):
+    for match in _CALLED.finditer(_without_commands(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(),
+                                                                          _COMMENT.sub("", text)))):
         name = match.group(1)
         if name not in skip and name not in found:
             found.append(name)

@@ -284,3 +284,23 @@ def test_a_plain_symbol_switching_time_in_scene_forcing_states_its_condition():
     declared = ls.solve(ls.Scene.from_equations("x'' + 4*x = Heaviside(t - b); x(0) = 0; x'(0) = 0",
                                                 parameters=["b"]))
     assert declared.conditions == ()
+
+
+SEED_EXAMPLE_5_PROGRAM = (  # the seed page's Mathematica input for Example 5, as printed
+    r"ClearAll; (*units of N, N/m, m, kg, m/s*) \[Mu]1 = 0.5; \[Mu]2 = 1.4; \[Mu]3 = 0.9; k1 = 400; "
+    r"k2 = 379; k3 = 100; m1 = 1; m2 = 0.8; d1 = 0.05; d2 = 0.07; v1 = 3; v2 = 2; eqn1 = "
+    r"m1*x''[t] + (\[Mu]1 + \[Mu]2)*x'[t] + \[Mu]2*y'[t] + (k1 + k2)* x[t] - k2*y[t] == 0; eqn2 = "
+    r"m2*y''[t] - \[Mu]1*x'[t] + (\[Mu]2 + \[Mu]3)*y'[t] - k2*x[t] + (k2 + k3)*y[t] == 0; eqns = "
+    r"{eqn1, eqn2, x[0] == d1, y[0] == d2, x'[0] == v1, y'[0] == v2}; sol = DSolve[eqns, {x[t], y[t]}, t];")
+
+
+def test_the_seeds_mathematica_program_reads_as_printed():
+    # as printed (its two sign misprints: +mu2*y' and -mu1*x'), the damping is not the physics'
+    printed = ls.Scene.from_equations(SEED_EXAMPLE_5_PROGRAM)
+    misprinted = sp.Matrix([[sp.Rational(19, 10), sp.Rational(7, 5)], [-sp.Rational(1, 2), sp.Rational(23, 10)]])
+    assert misprinted == printed.C
+    corrected = SEED_EXAMPLE_5_PROGRAM.replace(r"+ \[Mu]2*y'[t]", r"- \[Mu]2*y'[t]").replace(
+        r"- \[Mu]1*x'[t]", r"- \[Mu]2*x'[t]")
+    scene, bundled = ls.Scene.from_equations(corrected), ls.load_scene("three-dashpots")
+    for field in ("M", "C", "K", "x0", "v0"):
+        assert getattr(scene, field) == getattr(bundled, field), field
