@@ -407,7 +407,9 @@ class _Scalar:
         else:
             C, S, err_C, err_S = self._over(t)
         values = p * C + w * S
-        bound = (abs(p) * _SAFETY) * err_C + (abs(w) * _SAFETY) * err_S
+        # below 2⁻¹⁰²² e^{λt} and the products lose relative accuracy: 1e-300 absolute
+        bound = (abs(p) * _SAFETY) * err_C + (abs(w) * _SAFETY) * err_S \
+            + 1e-300 * (abs(p) + abs(w) * (1 + t))
         return values[None, :], bound[None, :]
 
     def _under(self, t: np.ndarray, lo: np.ndarray | None) -> tuple[np.ndarray, ...]:

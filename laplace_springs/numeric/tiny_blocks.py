@@ -114,14 +114,22 @@ def _inv(X: np.ndarray) -> np.ndarray | None:
     return Y if math.isfinite(float(np.abs(Y).sum())) else None
 
 
+def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``numpy.linalg.svd`` (full matrices), by its LAPACK gufunc where it exists."""
+    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "svd_f", None)
+    if gufunc is None:
+        u, s, vh = np.linalg.svd(P)
+        return u, s, vh
+    signature = "d->ddd" if P.dtype.kind == "f" else "D->DdD"
+    u, s, vh = gufunc(P, signature=signature)
+    return u, s, vh
+
+
 def _exact_float(value: Any) -> tuple[float, float]:
     """An fmpq as hi + lo: hi correctly rounded, lo the rounded remainder (0 when exact)."""
     hi = float(value)
-    q = value.q
-    if q & (q - 1) == 0 and abs(value.p) < 2**53:  # a dyadic rational that fits
-        return hi, 0.0
-    num, den = hi.as_integer_ratio()
-    return hi, float(value - fmpq(num, den))
+    low = value - fmpq(*hi.as_integer_ratio())
+    return hi, (float(low) if low else 0.0)
 
 
 _EYES: dict[int, np.ndarray] = {}
@@ -162,11 +170,6 @@ class _Block:
         """The largest real part of the block's eigenvalues."""
         return self.mu.real + (0.0 if self.N is None else abs(self.root.real))
 
-    def reach(self, t: np.ndarray) -> np.ndarray:
-        """min(t, 1/|√d|) ≥ |sinh(√d t)/√d| / cosh(Re √d·t)."""
-        size = abs(self.root)
-        return np.minimum(t, 1 / size) if size > 0 else t
-
 
 class BlockMotion:
     """x(t) of a scene of two to four coordinates (see the module notes).
@@ -198,15 +201,20 @@ class BlockMotion:
         scale = max(math.sqrt(largest), damping / 2)
         self.sigma = sigma = 2.0 ** round(math.log2(scale)) if 0 < scale < math.inf else 1.0
         hi = [[0.0] * size for _ in range(size)]
-        lo = [[0.0] * size for _ in range(size)]
+        lo: list[list[float]] | None = None
         for i in range(n):
             hi[i][n + i] = sigma
-        inverse = fmpq(*(1 / sigma).as_integer_ratio())
-        for entries, column, factor in ((A, 0, -inverse), (B, n, fmpq(-1))):
-            for (i, j), value in entries.items():
-                hi[n + i][column + j], lo[n + i][column + j] = _exact_float(value * factor)
+        inverse = fmpq(*(1 / sigma).as_integer_ratio()) if sigma != 1 else None
+        for entries, column, scaled in ((A, 0, True), (B, n, False)):
+            for (i, j), entry in entries.items():
+                high, low = _exact_float(-entry * inverse if scaled and inverse is not None
+                                         else -entry)
+                hi[n + i][column + j] = high
+                if low:
+                    lo = lo or [[0.0] * size for _ in range(size)]
+                    lo[n + i][column + j] = low
         self.Z = Z = np.array(hi)
-        self.Z_lo = np.array(lo) if any(any(row) for row in lo) else None
+        self.Z_lo = None if lo is None else np.array(lo)
         self.y0 = np.concatenate([x0, v0 / sigma])
         w, V = _eig(Z)
         self.poles = w
@@ -293,7 +301,7 @@ class BlockMotion:
         Z = self.Z
         eye = _eye(Z.shape[0])
         P = (Z - w[j] * eye) @ (Z - w[k] * eye)
-        _, singular, Vh = np.linalg.svd(P.real if real else P)
+        _, singular, Vh = _svd(P.real if real else P)
         if singular.size < 3 or singular[-3] < _SUBSPACE_GAP * singular[-2]:
             return None
         basis = Vh[-2:].conj().T
@@ -311,16 +319,17 @@ class BlockMotion:
         return [block, twin]
 
     def _block(self, columns: tuple[int, int], basis: np.ndarray) -> _Block:
-        """μI + N from the projection basisᴴ Z basis (the trace of N exactly zero), and
-        d = −det N = a² + bc in extended precision with the bound on its rounding."""
+        """The block basisᴴ Z basis = [[b₀₀, b₀₁], [b₁₀, b₁₁]] as μI + N with μ = (b₀₀ + b₁₁)/2
+        and N = [[a, b₀₁], [b₁₀, −a]], a = (b₀₀ − b₁₁)/2 (the rounding of μ and a, ≤ u of
+        them, is counted in φ), and d = −det N = a² + b₀₁b₁₀ with its rounding bound."""
         B = basis.conj().T @ self.Z @ basis
-        mu = (B[0, 0] + B[1, 1]) / 2
-        a = (B[0, 0] - B[1, 1]) / 2
-        N = np.array([[a, B[0, 1]], [B[1, 0], -a]])
-        long = N.astype(np.clongdouble)
-        d = complex(long[0, 0] * long[0, 0] + long[0, 1] * long[1, 0])
-        size = abs(a) ** 2 + abs(B[0, 1] * B[1, 0])
-        return _Block(columns, complex(mu), N, d, U * abs(d) + 8 * _U_LONG * size)
+        b00, b01, b10, b11 = B.ravel().tolist()
+        a = (b00 - b11) / 2
+        d = a * a + b01 * b10
+        size = abs(a) ** 2 + abs(b01 * b10)
+        # each complex product and the sum: ≤ 2√2u + 2u of the terms (here 6u)
+        return _Block(columns, (b00 + b11) / 2, np.array([[a, b01], [b10, -a]]), d,
+                      6 * U * size + U * abs(d))
 
     def _finish(self, X: np.ndarray, Y: np.ndarray | None) -> None:
         """Coefficients, residuals and the constants of the bound. The rounding of each
@@ -328,25 +337,19 @@ class BlockMotion:
         size = X.shape[0]
         self.X = X
         blocks = self.blocks
-        if all(block.N is None for block in blocks):  # B = diag(w): XB scales X's columns
-            rates = [0j] * size
-            for block in blocks:
-                rates[block.columns[0]] = block.mu
-            diagonal = np.array(rates)
-            self.B = np.diag(diagonal)
-            B_long = None
-        else:  # μI + N on 2 x 2 blocks, exactly in extended precision for the residual
-            B_long = np.zeros((size, size), dtype=np.clongdouble)
-            for block in blocks:
-                if block.N is None:
-                    B_long[block.columns[0], block.columns[0]] = block.mu
-                else:
-                    (i, j), N = block.columns, block.N.astype(np.clongdouble)
-                    mu = np.clongdouble(block.mu)
-                    B_long[i, i], B_long[i, j] = mu + N[0, 0], N[0, 1]
-                    B_long[j, i], B_long[j, j] = N[1, 0], mu + N[1, 1]
-            self.B = B_long.astype(complex)
-        B_norm = _norm(self.B)
+        B = np.zeros((size, size), dtype=complex)
+        moved = 0.0  # ‖μI + N − B‖: the rounding of μ and a on the 2 x 2 blocks
+        for block in blocks:
+            if block.N is None:
+                B[block.columns[0], block.columns[0]] = block.mu
+            else:
+                (i, j), N = block.columns, block.N
+                B[i, i], B[j, j] = block.mu + N[0, 0], block.mu + N[1, 1]
+                B[i, j], B[j, i] = N[0, 1], N[1, 0]
+                moved = max(moved, 2 * U * (abs(block.mu) + abs(N[0, 0])))
+        diagonal = B.diagonal() if all(block.N is None for block in blocks) else None
+        self.B = B
+        B_norm = _norm(B)
         self.B_rounding = U * B_norm
         if Y is None:
             Y = _inv(X)
@@ -373,13 +376,13 @@ class BlockMotion:
         Z_long = self.Z.astype(np.longdouble)
         if self.Z_lo is not None:
             Z_long += self.Z_lo
-        XB = X_long * diagonal.astype(np.clongdouble) if B_long is None else X_long @ B_long
+        XB = X_long * diagonal if diagonal is not None else X_long @ B
         R = (Z_long @ X_long - XB).astype(complex)
         R_norm = _norm(R)
         R_error = ((2 * size + 6) * _U_LONG * (_norm(self.Z) + B_norm) * X_norm
                    + U * R_norm)
         phi = (_norm(Y @ R) + gamma * Y_norm * R_norm + Y_norm * R_error
-               + theta * inverse * (R_norm + R_error))
+               + theta * inverse * (R_norm + R_error) + 2 * moved)
         r0 = _norm((X_long @ c.astype(np.clongdouble) - self.y0).astype(complex))
         c_norm, y0_norm = _norm(c), _norm(self.y0)
         # r₀'s rounding; y₀ holds the exact data rounded once
@@ -424,57 +427,76 @@ class BlockMotion:
         else:
             values = np.zeros((n, t.size))
         for block, g_C, g_S, _ in weights.doubles:
-            E = np.exp(block.mu * t)
-            root = block.root
-            if root == 0:
-                C, S = np.ones_like(t), t
-            else:
-                C, S = np.cosh(root * t), np.sinh(root * t) / root
-            values += (E * C * g_C + E * S * g_S).real
+            values += self._double(block, g_C, g_S, t)
         return values, self._bounds(weights, t)
+
+    @staticmethod
+    def _double(block: _Block, g_C: np.ndarray, g_S: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Re e^{μt}[cosh(√d t)·g_C + sinh(√d t)/√d·g_S]: in real arithmetic for a real
+        block (cosh and sinh, or cos and sin of √|d|·t), else complex."""
+        if block.real:
+            d = block.d.real
+            E = np.exp(block.mu.real * t)
+            if d == 0:
+                C, S = 1.0, t
+            else:
+                root = math.sqrt(abs(d))
+                phase = root * t
+                C, S = (np.cosh(phase), np.sinh(phase) / root) if d > 0 \
+                    else (np.cos(phase), np.sin(phase) / root)
+            value: np.ndarray = E * (C * g_C.real + S * g_S.real)
+            return value
+        E = np.exp(block.mu * t)
+        root = block.root
+        if root == 0:
+            return (E * (g_C + t * g_S)).real
+        return (E * (np.cosh(root * t) * g_C + (np.sinh(root * t) / root) * g_S)).real
 
     def _growth_factor(self, t: np.ndarray) -> tuple[np.ndarray, float]:
         """q(t) with ‖e^{Bτ}‖ ≤ e^{μτ}q(τ) for τ ≤ t, q nondecreasing, and ν = max ‖N‖.
 
-        A 2 x 2 block growing like e^{g τ}(1 + ν min(τ, 1/|√d|)) with g = μ − a below the
-        top rate μ contributes at most its largest e^{−aτ}(1 + ντ), (ν/a)e^{a/ν − 1} when
-        ν > a (else 1), and at most 1 + ν·min(t, 1/|√d|) by time t; a 1 x 1 block 1.
+        A 2 x 2 block bounded by e^{gτ}(1 + ν·min(τ, 1/|√d|)) with g = μ − a below the top
+        rate μ contributes at most max_τ e^{−aτ}(1 + ντ) = (ν/a)e^{a/ν − 1} when ν > a
+        (else 1), and at most 1 + ν·min(t, 1/|√d|) by time t; a 1 x 1 block 1.
         """
-        q = np.ones_like(t)
+        q: np.ndarray | float = 1.0
         nu = 0.0
         for block in self.blocks:
             if block.N is None or block.skip:
                 continue
             size = block.nu
             nu = max(nu, size)
-            linear = 1 + size * block.reach(t)
             gap = self.growth - block.growth
-            if gap > 0 and size > gap:
+            if gap > 0 and size <= gap:
+                continue
+            linear = 1 + size * _reach(block, t)
+            if gap > 0:
                 linear = np.minimum(linear, size / gap * math.exp(gap / size - 1))
-            elif gap > 0:
-                linear = np.ones_like(t)
             q = np.maximum(q, linear)
-        return q, nu
+        return np.broadcast_to(q, t.shape), nu
 
     def _bounds(self, weights: _Order, t: np.ndarray) -> np.ndarray:
         """The decomposition's error, the rounding of the evaluation and of d (times
         _SAFETY). e^{wt}'s argument is off by |w|·(2u·t + |lo|) with |lo| ≤ u·t: relative
         3.03u·|w|·t (e^δ − 1 ≤ 1.0001δ where e^{wt} neither underflows nor overflows);
         the libm, the product with the weight, the real part and the sum over 2n terms
-        add (2n + 8)u."""
+        add (2n + 8)u. Every term is a per-time function times a per-coordinate constant,
+        and each time's bound depends on that time alone."""
         phi = self.phi
         shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t
-        if not weights.doubles:  # p = 1
-            decay = np.exp(self.growth * t)
+        decay = np.exp(self.growth * t)
+        # e^{wt} below 2⁻¹⁰²² loses relative accuracy: 1e-300 of the weights, absolute
+        floor = np.multiply.outer(weights.size, 1e-300 * (1 + t))
+        if not weights.doubles:  # q = 1
             G = np.exp((self.growth + phi) * t) * _SAFETY
             bounds = np.multiply.outer(weights.rows, G * (phi * self.c_norm * t + self.rho0))
             bounds += np.multiply.outer(weights.single_size, decay * shift * _SAFETY)
+            bounds += floor
             if weights.F_rows is not None:
                 bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
                                             * (self.c_norm + self.rho0) * G)
             return bounds
         q, nu = self._growth_factor(t)
-        decay = np.exp(self.growth * t)
         spread = np.exp(q * phi * t)
         G = decay * q * spread
         # ∫₀ᵗ q(t − s) q(s) ds ≤ t·q(t)², and ≤ t(1 + νt + (νt)²/6) as q(τ) ≤ 1 + ντ
@@ -486,32 +508,41 @@ class BlockMotion:
             bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
                                         * (self.c_norm + self.rho0) * G)
         bounds += np.multiply.outer(weights.single_size, decay * shift)
-        for block, g_C, g_S, (rows, c_norm, Nc_norm) in weights.doubles:
+        # the 2 x 2 blocks, each within e^{μt} ≥ e^{Re μ_b t}·cosh(Re √d t): cosh and sinh of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their
+        # envelopes (|C| ≤ 1·, |S| ≤ min(t, 1/|√d|)·), the libm by 4u; and the rounding
+        # δd of d: |∂C/∂d| = t|S|/2 and |∂S/∂d| = |tC − S|/2|d|, or by the series
+        # |∂S/∂d| ≤ t³/4·cosh(√|d| t) ≤ 0.39t³ where |√d|t ≤ 1
+        largest = max(abs(block.root) for block, *_ in weights.doubles)
+        rounding = decay * (shift + (2 * largest * t + 4) * U)
+        bounds += np.multiply.outer(weights.double_C, rounding)
+        for block, _, g_S, (rows, c_norm, Nc_norm) in weights.doubles:
             size = abs(block.root)
-            envelope = np.exp(block.growth * t)  # ≥ e^{Re μ t}·cosh(Re √d·t)
-            reach = block.reach(t)                # |S| ≤ reach·cosh(Re √d·t)
-            # cosh and sinh of √d·t: the argument's rounding moves them by ≤ 2u|√d|t
-            # (relative to their envelopes), the libm by 4u
-            rounding = envelope * (shift + (2 * size * t + 4) * U)
-            bounds += np.multiply.outer(np.abs(g_C[:, 0]), rounding)
+            reach = _reach(block, t)
+            dS = 0.39 * t ** 3 if size == 0 or size * float(t.max(initial=0.0)) <= 1 \
+                else np.where(size * t <= 1, 0.39 * t ** 3, (t + reach) / (2 * size * size))
             bounds += np.multiply.outer(np.abs(g_S[:, 0]), rounding * reach)
-            # the rounding of d: ∂C/∂d = t·S/2 and ∂S/∂d = (tC − S)/2d, or by the series
-            # |∂S/∂d| ≤ t³/4·cosh(√|d| t) ≤ 0.39t³ where |√d|t ≤ 1
-            dS = (np.where(size * t <= 1, 0.39 * t ** 3, (t + reach) / (2 * size * size))
-                  if size > 0 else 0.39 * t ** 3)
-            bounds += np.multiply.outer(block.weight * rows, block.d_error * envelope
+            bounds += np.multiply.outer(block.weight * block.d_error * rows, decay
                                         * (t / 2 * reach * c_norm + dS * Nc_norm))
-        return bounds * _SAFETY
+        return bounds * _SAFETY + floor
+
+
+def _reach(block: _Block, t: np.ndarray) -> np.ndarray:
+    """min(t, 1/|√d|) ≥ |sinh(√d t)/√d| / cosh(Re √d·t), elementwise (t itself when no
+    time reaches the cap: the same numbers)."""
+    size = abs(block.root)
+    if size == 0 or size * float(t.max(initial=0.0)) <= 1:
+        return t
+    return np.minimum(t, 1 / size)
 
 
 class _Order:
     """The weights of one derivative order (see :meth:`BlockMotion._order`).
 
     ``rates`` of the evaluated 1 x 1 blocks, with the ``real`` and ``imag`` parts of their
-    weights g_j = weight·L_j c_j (one column (n, 1) per block) and whether they oscillate;
-    ``doubles``: per 2 x 2 block (block, L_b c_b, L_b N c_b as columns, (row norms of L_b,
-    ‖c_b‖, ‖N c_b‖)); ``single_size`` Σ_j |g_j| per row; ``rows`` the row norms of L;
-    ``F_rows`` σ‖(X's velocity rows)_i‖ for order 2.
+    weights g_j = weight·L_j c_j (columns (n, 1)) and whether they oscillate; ``doubles``:
+    per 2 x 2 block (block, L_b c_b, L_b N c_b as columns, (row norms of L_b, ‖c_b‖,
+    ‖N c_b‖)); ``single_size`` Σ_j |g_j| per row; ``rows`` the row norms of L; ``F_rows``
+    σ‖(X's velocity rows)_i‖ for order 2.
     """
 
     def __init__(self, L: np.ndarray, blocks: list[_Block], c: np.ndarray,
@@ -534,10 +565,15 @@ class _Order:
                                  _norm(Nc))))
         self.rates = np.array(rates, dtype=complex)
         g = L[:, columns] * np.array(factors, dtype=complex)  # (n, blocks)
-        self.real = [np.ascontiguousarray(g[:, [j]].real) for j in range(len(rates))]
-        self.imag = [np.ascontiguousarray(g[:, [j]].imag) for j in range(len(rates))]
+        real, imag = g.real, g.imag
+        self.real = [real[:, j:j + 1] for j in range(len(rates))]
+        self.imag = [imag[:, j:j + 1] for j in range(len(rates))]
         self.oscillating = [rate.imag != 0 for rate in rates]
         self.doubles = doubles
         self.single_size = np.abs(g).sum(axis=1)
-        self.rows = np.sqrt((np.abs(L) ** 2).sum(axis=1))
+        self.double_C = sum((np.abs(g_C[:, 0]) for _, g_C, _, _ in doubles), np.zeros(L.shape[0]))
+        #: Σ of every weight's size per row (the absolute floor of the bound)
+        self.size = self.single_size + self.double_C + sum(
+            (np.abs(g_S[:, 0]) for _, _, g_S, _ in doubles), np.zeros(L.shape[0]))
+        self.rows = np.sqrt((L.real ** 2 + L.imag ** 2).sum(axis=1))
         self.F_rows = F_rows
