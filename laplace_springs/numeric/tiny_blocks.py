@@ -438,13 +438,13 @@ class BlockMotion:
             d = block.d.real
             E = np.exp(block.mu.real * t)
             if d == 0:
-                C, S = 1.0, t
-            else:
-                root = math.sqrt(abs(d))
-                phase = root * t
-                C, S = (np.cosh(phase), np.sinh(phase) / root) if d > 0 \
-                    else (np.cos(phase), np.sin(phase) / root)
-            value: np.ndarray = E * (C * g_C.real + S * g_S.real)
+                value: np.ndarray = E * (g_C.real + t * g_S.real)
+                return value
+            size = math.sqrt(abs(d))
+            phase = size * t
+            C, S = (np.cosh(phase), np.sinh(phase) / size) if d > 0 \
+                else (np.cos(phase), np.sin(phase) / size)
+            value = E * (C * g_C.real + S * g_S.real)
             return value
         E = np.exp(block.mu * t)
         root = block.root
