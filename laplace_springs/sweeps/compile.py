@@ -28,8 +28,9 @@ from ..model.forcing import input_transform
 from ..model.numbers import shown
 from ..model.scene import Scene
 from ..model.symbols import lam
+from .parameters import parameter_sets
 
-__all__ = ["CompiledScene", "compile_scene", "parameter_rows"]
+__all__ = ["CompiledScene", "compile_scene", "compile_refusal", "compiled_or_reason", "parameter_rows"]
 
 
 
@@ -187,6 +188,38 @@ class CompiledScene:
                     len(self.numerators), self.degree))
         return self._functions["counts"]
 
+    def parameter_degrees(self) -> tuple[np.ndarray, np.ndarray]:
+        """Total degree of each coefficient in the parameters (``count_ops + 1`` where a
+        coefficient is not a polynomial in them).
+
+        A parameter set's float64 values differ from the exact values they stand for (a
+        float's shortest decimal, an exact rational rounded) by at most u relative, so a
+        coefficient of degree d moves by at most d·u times its absolute bound: part of
+        the coefficient error the kernels propagate.
+
+        Examples
+        --------
+        >>> import laplace_springs as ls
+        >>> scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k*c"]], x0=[1], v0=[0],
+        ...                                parameters=["c", "k"])
+        >>> [a.tolist() for a in compile_scene(scene).parameter_degrees()]
+        [[0.0, 1.0, 2.0], [[0.0, 1.0]]]
+        """
+        if "degrees" not in self._functions:
+            def degree(c: sp.Expr) -> float:
+                expr = sp.sympify(c)
+                if not (expr.free_symbols & set(self.symbols)):
+                    return 0.0
+                try:
+                    return float(sp.Poly(expr, *self.symbols).total_degree())
+                except sp.PolynomialError:
+                    return float(sp.count_ops(expr) + 1)
+            self._functions["degrees"] = (
+                np.array([degree(c) for c in self.denominator]),
+                np.array([[degree(c) for c in row] for row in self.numerators]).reshape(
+                    len(self.numerators), self.degree))
+        return self._functions["degrees"]
+
     def initial_size(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """‖x0‖∞ and ‖v0‖∞ of each parameter set."""
         P = rows.shape[0]
@@ -202,8 +235,9 @@ def _stack(values: list[Any], P: int) -> np.ndarray:
     return out
 
 
-def _forcing_parts(scene: Scene) -> tuple[list[sp.Expr], sp.Expr]:
-    """Numerators of the forces' transforms over one common denominator, and it."""
+def _forcing_parts(scene: Scene) -> tuple[list[sp.Expr], sp.Expr] | str:
+    """Numerators of the forces' transforms over one common denominator, and it (or why
+    the forces cannot be compiled: a period or a delay)."""
     assert scene.forcing is not None
     fractions = []
     for j, entry in enumerate(scene.forcing):
@@ -212,19 +246,74 @@ def _forcing_parts(scene: Scene) -> tuple[list[sp.Expr], sp.Expr]:
             continue
         transform = input_transform(entry, f"forcing[{j}]", lam)
         if transform.period is not None:
-            raise SceneError(f"sweep: forcing[{j}] = {shown(entry)} is periodic; sweep takes "
-                             "forces without delays or periods, solve such scenes one by one "
-                             "with ls.solve(scene.subs(...))")
+            return f"forcing[{j}] = {shown(entry)} is periodic"
         parts = transform.parts
         if any(tau != 0 for tau, _ in parts):
-            raise SceneError(f"sweep: forcing[{j}] = {shown(entry)} has a delayed part "
-                             "(Heaviside or DiracDelta at t > 0); sweep takes forces without "
-                             "delays, solve such scenes one by one with ls.solve(scene.subs(...))")
+            return f"forcing[{j}] = {shown(entry)} has a delayed part (Heaviside or DiracDelta at t > 0)"
         total = sp.Add(*(R for _, R in parts))
         fractions.append(sp.fraction(sp.cancel(sp.together(total))))
     common = functools.reduce(sp.lcm, [den for _, den in fractions], sp.S.One)
     numerators = [sp.expand(num * sp.cancel(common / den)) for num, den in fractions]
     return numerators, sp.expand(common)
+
+
+def compile_refusal(scene: Scene) -> str | None:
+    """Why the scene cannot be compiled, found without compiling it (or None).
+
+    Examples
+    --------
+    >>> import laplace_springs as ls
+    >>> scene = ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[0], v0=[0], parameters=["k"],
+    ...                                forcing=[ls.square_wave(1, 2)])
+    >>> compile_refusal(scene)
+    'forcing[0] = ... is periodic'
+    """
+    if scene.sampled is not None:
+        return "the scene has sampled forces"
+    if scene.n > limits().sweep_max_coordinates:
+        return (f"the scene has {scene.n} coordinates, more than "
+                f"Limits.sweep_max_coordinates = {limits().sweep_max_coordinates} (its symbolic "
+                "adjugate would be too large)")
+    if scene.is_forced:
+        found = _forcing_parts(scene)
+        if isinstance(found, str):
+            return found
+    return None
+
+
+def compiled_or_reason(scene: Scene) -> CompiledScene | str:
+    """The :class:`CompiledScene`, or why the scene cannot be compiled."""
+    why = compile_refusal(scene)
+    if why is not None:
+        return why
+    R = resolvent(scene)
+    denominator = R.determinant.as_expr()
+    numerators = [N.as_expr() for N in R.numerators]
+    if scene.is_forced:
+        found = _forcing_parts(scene)
+        assert not isinstance(found, str)
+        forces, common = found
+        adjugate = R.adjugate
+        numerators = [sp.expand(N * common + sum((adjugate[i, j] * forces[j]
+                                                  for j in range(scene.n)), sp.S.Zero))
+                      for i, N in enumerate(numerators)]
+        denominator = sp.expand(denominator * common)
+    D = sp.Poly(denominator, lam)
+    N = D.degree()
+    if N < 1:
+        return "det(λ²M + λC + K) does not depend on λ; the scene has no dynamics"
+    rows = []
+    for i, numerator in enumerate(numerators):
+        poly = sp.Poly(numerator, lam)
+        if not poly.is_zero and poly.degree() >= N:
+            return (f"coordinate {scene.names[i]} has an impulsive part at t = 0 (its transform "
+                    "is not a proper fraction)")
+        coeffs = [] if poly.is_zero else poly.all_coeffs()
+        rows.append([sp.S.Zero] * (N - len(coeffs)) + coeffs)
+    symbols = tuple(scene.parameters)
+    initial = list(scene.x0) + list(scene.v0)
+    return CompiledScene(scene, symbols, tuple(s.name for s in symbols), D.all_coeffs(), rows,
+                         initial)
 
 
 def compile_scene(scene: Scene) -> CompiledScene:
@@ -233,7 +322,8 @@ def compile_scene(scene: Scene) -> CompiledScene:
     Parameters
     ----------
     scene : Scene
-        At most :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates` coordinates; forces (if any) without delays.
+        At most :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates` coordinates;
+        forces (if any) without delays or periods, no sampled forces.
 
     Returns
     -------
@@ -242,8 +332,8 @@ def compile_scene(scene: Scene) -> CompiledScene:
     Raises
     ------
     SceneError
-        For a scene too large, a delayed force, or a motion with an impulsive part
-        (a transform that is not a proper fraction).
+        For a scene too large, a delayed or periodic force, or a motion with an impulsive
+        part (a transform that is not a proper fraction).
 
     Examples
     --------
@@ -254,95 +344,18 @@ def compile_scene(scene: Scene) -> CompiledScene:
     >>> compiled.names, compiled.denominator, compiled.numerators
     (('c', 'k'), [1, c, k], [[1, c]])
     """
-    if scene.sampled is not None:
-        raise SceneError("sweep: the scene has sampled forces; sweep takes forces given as "
-                         "formulas, solve such scenes one by one with ls.solve(scene.subs(...))")
-    if scene.n > limits().sweep_max_coordinates:
-        raise SceneError(f"sweep: the scene has {scene.n} coordinates, more than "
-                         f"{limits().sweep_max_coordinates} (Limits.sweep_max_coordinates); its symbolic "
-                         "adjugate would be too large")
-    R = resolvent(scene)
-    denominator = R.determinant.as_expr()
-    numerators = [N.as_expr() for N in R.numerators]
-    if scene.is_forced:
-        forces, common = _forcing_parts(scene)
-        adjugate = R.adjugate
-        numerators = [sp.expand(N * common + sum((adjugate[i, j] * forces[j]
-                                                  for j in range(scene.n)), sp.S.Zero))
-                      for i, N in enumerate(numerators)]
-        denominator = sp.expand(denominator * common)
-    D = sp.Poly(denominator, lam)
-    N = D.degree()
-    if N < 1:
-        raise SceneError("sweep: det(λ²M + λC + K) does not depend on λ; the scene has no dynamics")
-    rows = []
-    for i, numerator in enumerate(numerators):
-        poly = sp.Poly(numerator, lam)
-        if not poly.is_zero and poly.degree() >= N:
-            raise SceneError(f"sweep: coordinate {scene.names[i]} has an impulsive part at t = 0 "
-                             "(its transform is not a proper fraction); solve such scenes one "
-                             "by one with ls.solve(scene.subs(...))")
-        coeffs = [] if poly.is_zero else poly.all_coeffs()
-        rows.append([sp.S.Zero] * (N - len(coeffs)) + coeffs)
-    symbols = tuple(scene.parameters)
-    initial = list(scene.x0) + list(scene.v0)
-    return CompiledScene(scene, symbols, tuple(s.name for s in symbols), D.all_coeffs(), rows,
-                         initial)
+    found = compiled_or_reason(scene)
+    if isinstance(found, str):
+        raise SceneError(f"sweep: cannot compile the scene: {found}; sweep it with "
+                         "ls.sweep, which solves such scenes set by set")
+    return found
 
 
 def parameter_rows(compiled: CompiledScene, values: Mapping[Any, Any]) -> np.ndarray:
     """The parameter sets as a float array (P, parameters), checked.
 
     Every parameter of the scene needs a value: a number (the same for every set) or a
-    1-D array; all arrays have the same length P.
+    1-D array; all arrays have the same length P (see
+    :func:`~laplace_springs.sweeps.parameters.parameter_sets`).
     """
-    if not isinstance(values, Mapping):
-        raise SceneError(f"sweep: values must map parameter names to arrays, got {shown(values)}")
-    by_name: dict[str, Any] = {}
-    for key, value in values.items():
-        name = key.name if isinstance(key, sp.Symbol) else key
-        if not isinstance(name, str) or name not in compiled.names:
-            raise SceneError(f"sweep: {shown(key)} is not a parameter of this scene; its "
-                             f"parameters are {', '.join(compiled.names) or 'none'}")
-        if name in by_name:
-            raise SceneError(f"sweep: parameter {name!r} is given twice")
-        by_name[name] = value
-    missing = [name for name in compiled.names if name not in by_name]
-    if missing:
-        raise SceneError(f"sweep: no values for parameter(s) {', '.join(missing)}")
-    arrays = {}
-    for name in compiled.names:
-        try:
-            array = np.asarray(by_name[name], dtype=float)
-        except (TypeError, ValueError):
-            raise SceneError(f"sweep: values of {name!r} must be real numbers, got "
-                             f"{shown(by_name[name])}") from None
-        if array.ndim > 1:
-            raise SceneError(f"sweep: values of {name!r} must be a 1-D array, got shape {array.shape}")
-        arrays[name] = array
-    lengths = {name: a.size for name, a in arrays.items() if a.ndim == 1}
-    sizes = set(lengths.values())
-    if len(sizes) > 1:
-        listed = ", ".join(f"{name}: {size}" for name, size in lengths.items())
-        raise SceneError(f"sweep: the value arrays must have one length (one entry per "
-                         f"parameter set), got {listed}")
-    P = sizes.pop() if sizes else 1
-    rows = np.empty((P, len(compiled.names)))
-    for k, (name, symbol) in enumerate(zip(compiled.names, compiled.symbols)):
-        column = np.broadcast_to(arrays[name], (P,))
-        bad = ~np.isfinite(column)
-        assumptions = symbol.assumptions0
-        if assumptions.get("positive"):
-            bad |= ~(column > 0)
-            what = "a positive number"
-        elif assumptions.get("nonnegative"):
-            bad |= ~(column >= 0)
-            what = "a nonnegative number"
-        else:
-            what = "a finite number"
-        if bad.any():
-            index = int(np.flatnonzero(bad)[0])
-            raise SceneError(f"sweep: parameter {name!r} must be {what}, but set {index} has "
-                             f"{name} = {float(column[index])!r}")
-        rows[:, k] = column
-    return rows
+    return parameter_sets(compiled.names, compiled.symbols, values).rows

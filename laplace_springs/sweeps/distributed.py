@@ -1,46 +1,52 @@
-"""Running a sweep's chunks on a Dask cluster (the optional ``dask`` extra)."""
+"""Running a sweep's chunks on a Dask cluster (the optional ``dask`` extra).
+
+Each chunk is one task running :func:`~laplace_springs.sweeps.tasks.run_chunk`, the code
+the local path runs, so the results are identical. Chunks are cut by estimated cost
+(:func:`~laplace_springs.sweeps.paths.chunk_bounds`), results are collected as they
+complete and released at once (the client holds one chunk at a time; values written to a
+file or a shared store never travel), and a worker lost in the middle costs only its
+tasks: the scheduler runs them again on the workers left (tasks are pure functions of
+their arguments, so a chunk computed twice writes the same rows twice and is counted
+once here).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
-
 from ..model.errors import SceneError
 from ..model.numbers import shown
-from .chunks import evaluate_rows
-from .compile import CompiledScene
+from .parameters import ParameterSets
+from .paths import SweepPlan
+from .tasks import TaskResult, run_chunk
 
 __all__ = ["run_on_client"]
 
 
-def run_on_client(client: Any, compiled: CompiledScene, rows: np.ndarray,
-                  bounds: list[tuple[int, int]], times: np.ndarray, derivative: int,
-                  target: float, report: Callable[[int, int], None] | None) -> list[Any]:
-    """Evaluate the chunks ``rows[start:stop]`` on ``client``; results in chunk order.
-
-    Each chunk runs the same code as the local path (the compiled scene is sent once;
-    its NumPy functions are rebuilt on the workers), so the results are identical.
-    """
+def run_on_client(client: Any, plan: SweepPlan, sets: ParameterSets, bounds: list[tuple[int, int]],
+                  options: dict[str, Any], collect: Callable[[TaskResult], None],
+                  report: Callable[[int, int], None] | None) -> None:
+    """Run the chunks ``bounds`` on ``client``; ``collect`` gets each chunk's result once,
+    in the order they complete."""
     try:
         from distributed import as_completed
     except ImportError:  # pragma: no cover - depends on the environment
         raise ImportError("sweep(client=...) needs Dask: pip install \"laplace-springs[dask]\" "
                           "(dask and distributed)") from None
-    if not (hasattr(client, "submit") and hasattr(client, "scatter")):
+    if not (hasattr(client, "submit") and hasattr(client, "gather")):
         raise SceneError(f"sweep: client must be a dask.distributed.Client, got {shown(client)}")
-    shared = client.scatter(compiled, broadcast=True)
-    futures = [client.submit(evaluate_rows, shared, rows[start:stop], times,
-                             derivative=derivative, target=target, pure=False)
-               for start, stop in bounds]
-    index = {future.key: k for k, future in enumerate(futures)}
-    results: list[Any] = [None] * len(futures)
+    futures = {}
+    for start, stop in bounds:  # each task carries its own sets: nothing to lose but the task
+        future = client.submit(run_chunk, plan, sets.subset(start, stop), start, pure=False,
+                               **options)
+        futures[future.key] = (future, start, stop)
     done = 0
-    for future in as_completed(futures):
-        k = index[future.key]
-        results[k] = future.result()
-        done += bounds[k][1] - bounds[k][0]
+    for future in as_completed([f for f, _, _ in futures.values()]):
+        _, start, stop = futures.pop(future.key)
+        result = future.result()
+        future.release()
+        collect(result)
+        done += stop - start
         if report is not None:
-            report(done, len(rows))
-    return results
+            report(done, len(sets))

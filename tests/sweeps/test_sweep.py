@@ -206,16 +206,3 @@ def test_a_dask_cluster_gives_the_local_result(grounded):
                        progress=lambda done, total: seen.append(done))
     assert np.array_equal(local, remote)
     assert sorted(seen)[-1] == 3000
-
-
-def test_periodic_and_sampled_forces_are_refused_not_dropped():
-    """A sweep of a scene driven by a periodic or a sampled force says it cannot take it
-    (it once returned zeros for the square wave)."""
-    periodic = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[[4]], x0=[0], v0=[0],
-                                      parameters=["c"], forcing=[ls.square_wave(1, 2)])
-    with pytest.raises(SceneError, match="periodic"):
-        ls.sweep(periodic, {"c": [0.5, 1.0]}, [1.0, 3.0])
-    sampled = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[[4]], x0=[0], v0=[0],
-                                     parameters=["c"], forcing=[ls.sampled([0, 1], [1, 1])])
-    with pytest.raises(SceneError, match="sampled"):
-        ls.sweep(sampled, {"c": [0.5, 1.0]}, [1.0, 3.0])
