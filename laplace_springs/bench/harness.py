@@ -53,6 +53,7 @@ import numpy as np
 from sympy.core.cache import clear_cache
 
 from ..model.scene import Scene
+from ..numeric import first_order
 from ..planning.progress import Progress
 from . import report as bench_report
 from .battery import battery_cases
@@ -153,8 +154,11 @@ def time_limit(seconds: float | None) -> Iterator[None]:
 
 
 def clear_caches() -> None:
-    """Empty SymPy's cache and the functools caches of this package."""
+    """Empty SymPy's cache, the functools caches of this package and the tables it keeps
+    per scene (``numeric.first_order.scene_cache``: entries, facts, engine data), so every
+    timed run of ours starts from the Scene as built, as a first call does."""
     clear_cache()
+    first_order._ENTRIES.clear()  # the finalizers pop with a default: safe to empty
     for name, module in list(sys.modules.items()):
         if name.startswith("laplace_springs") and module is not None:
             for value in list(vars(module).values()):
