@@ -35,8 +35,9 @@ side, initial conditions among them or in ``[initial]``)::
         "m2*x2'' - k2*x1 + (k2 + k3)*x2 = cos(t)",
         "x1(0) = 1/20; x1'(0) = 0; x2(0) = 0; x2'(0) = 0",
     ]
-    coordinates = ["x1", "x2"]     # optional: the column order Numbers may be TOML
-strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
+    coordinates = ["x1", "x2"]     # optional: the column order
+
+Numbers may be TOML strings (``"1/2"``, ``"0.2"``, ``"k1"``) or TOML numbers (a TOML float ``0.2``
 means ``1/5``); all go through :func:`laplace_springs.model.numbers.to_exact`, and no
 text is ever evaluated. A value with a unit is a string (``m1 = "500 g"``,
 ``k1 = ["wall", "m1", "2.5 N/cm"]``, ``x0 = ["5 cm", "3 cm"]``, ``m1 = "10*cos(3*t) N"``
