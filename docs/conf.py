@@ -4,6 +4,11 @@ Build with ``sphinx-build -W -b html docs docs/_build/html`` (warnings are error
 suite does the same in tests/test_docs.py). Each build copies ../notebooks/*.ipynb into
 _notebooks/ (MyST-NB executes them, so the pages show their outputs) and redraws the
 figures of every bundled scene into _static/scenes/ (see make_figures.py).
+
+Formulas are typeset by the packaged MathJax 3 (the ``pages`` extra, django-static-mathjax;
+see laplace_springs.publish.mathjax): the build copies its one-file ``tex-svg-full.js`` into
+the site's _static/mathjax/, so the site needs no network, as the worked-example pages
+(tests/test_browser.py opens both in headless Chromium with the network off).
 """
 
 from __future__ import annotations
@@ -21,6 +26,8 @@ sys.path.insert(0, str(HERE))
 import make_figures
 
 import laplace_springs
+from laplace_springs.publish.mathjax import MATHJAX_FILE
+from laplace_springs.publish.mathjax import mathjax_path as packaged_mathjax
 
 project = "laplace_springs"
 author = "laplace_springs contributors"
@@ -58,6 +65,21 @@ autodoc_member_order = "bysource"
 autodoc_typehints = "none"           # the docstrings state the types
 autodoc_default_options = {"members": True, "show-inheritance": False}
 
+# The packaged MathJax (no CDN): copied into _static/mathjax/ by _copy_mathjax below. Inline
+# math is \( \) (MyST writes $...$ as it); $...$ and $$...$$ too inside math and notebook
+# output areas, where the notebooks' _repr_latex_ outputs put them.
+mathjax_path = f"mathjax/{MATHJAX_FILE}"
+mathjax3_config = {
+    "tex": {"inlineMath": [["\\(", "\\)"], ["$", "$"]], "displayMath": [["\\[", "\\]"], ["$$", "$$"]]},
+    "options": {"enableMenu": False},
+}
+# No widget manager from a CDN: widget outputs of the executed notebooks show their text form.
+nb_ipywidgets_js: dict = {}
+
+# numpydoc types and attribute names such as "values", "name" or "text" resolve to attributes of
+# that name in several classes; Sphinx warns that the reference is ambiguous (not broken).
+suppress_warnings = ["ref.python"]
+
 html_theme = "alabaster"
 html_static_path = ["_static"]
 html_title = "laplace_springs"
@@ -73,10 +95,19 @@ def _copy_notebooks() -> None:
         shutil.copy2(executed if executed.exists() else notebook, target / notebook.name)
 
 
+def _copy_mathjax(app, exception) -> None:
+    """Put the packaged MathJax where mathjax_path points, once the pages are written."""
+    if exception is None and app.builder.format == "html":
+        target = Path(app.outdir) / "_static" / "mathjax"
+        target.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(packaged_mathjax(), target / MATHJAX_FILE)
+
+
 def setup(app):
     _copy_notebooks()
     make_figures.main(HERE / "_static" / "scenes")
     _connect_hygiene(app)
+    app.connect("build-finished", _copy_mathjax)
 
 
 # ----------------------------------------------------------------------------

@@ -2,32 +2,24 @@
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
+import re
 from pathlib import Path
 
 import pytest
 
-from tests._notebook_runs import NOTEBOOKS, executed_notebooks
+from tests._docs_build import built_docs
+from tests._notebook_runs import NOTEBOOKS
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
 
-def test_docs_build_without_warnings(tmp_path):
+def test_docs_build_without_warnings():
     pytest.importorskip("sphinx")
     pytest.importorskip("myst_nb")
     pytest.importorskip("nbclient")
-    outdir, errors = executed_notebooks()  # executed once, shared with test_notebooks
-    failed = [name for name, error in errors.items() if error is not None]
-    assert not failed, f"notebooks that fail to execute: {failed} (see test_notebooks)"
-    environment = dict(os.environ, LAPLACE_SPRINGS_EXECUTED_NOTEBOOKS=str(outdir))
-    command = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-E", "-q", "-b", "html",
-               "-d", str(tmp_path / "doctrees"), str(DOCS), str(tmp_path / "html")]
-    result = subprocess.run(command, capture_output=True, text=True, timeout=600, env=environment,
-                            check=False)
-    assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
-    html = tmp_path / "html"
+    pytest.importorskip("mathjax", reason="the docs typeset with the packaged MathJax (the pages extra)")
+    html, status, output = built_docs()  # built once, shared with test_browser
+    assert status == 0, output
     for page in ("index.html", "getting-started.html", "api.html", "gallery.html",
                  "guide/scenes.html", "guide/cli.html"):
         assert (html / page).exists(), page
@@ -36,6 +28,13 @@ def test_docs_build_without_warnings(tmp_path):
         assert "<img" in rendered, notebook.name
     api = (html / "api.html").read_text(encoding="utf-8")
     assert "draw_scene" in api and "Solution" in api
+    # the packaged MathJax, no CDN (tests/test_browser.py checks the typesetting itself)
+    assert (html / "_static" / "mathjax" / "tex-svg-full.js").stat().st_size > 1_000_000
+    for page in ("index.html", "algorithm.html", "_notebooks/02_example2_resolvent.html"):
+        text = (html / page).read_text(encoding="utf-8")
+        scripts = re.findall(r'<script[^>]*src="([^"]*)"', text)
+        assert any(src.endswith("mathjax/tex-svg-full.js") for src in scripts), page
+        assert not [src for src in scripts if src.startswith(("http:", "https:", "//"))], page
 
 
 def test_figures_of_every_bundled_scene_are_in_the_docs():

@@ -19,14 +19,12 @@ from typing import TYPE_CHECKING, Any
 
 from ..model.errors import SceneError
 from ..model.scene import Scene, register_diagram_renderer, register_scene_drawer
-from .chain import Chain, chain_of, math_label, physical_matrices, value_text
 from .diagram import SCALE_INCHES, build_diagram
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["Chain", "chain_of", "physical_matrices", "draw_scene", "math_label", "value_text",
-           "scene_image", "DISPLAY_MAX_MASSES"]
+__all__ = ["draw_scene", "scene_image", "fit_figure", "DISPLAY_MAX_MASSES"]
 
 
 def draw_scene(scene: Scene, ax: Axes | None = None, *, show_values: bool = False,

@@ -35,7 +35,8 @@ from ..model.scene import Scene
 from ..model.symbols import TIME
 from ..model.units import axis_label
 from ..numeric.first_order import float_matrix
-from .drawing import draw_scene, math_label, physical_matrices
+from .chain import math_label, physical_matrices
+from .drawing import draw_scene
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -220,7 +221,7 @@ def energy(solution: Motion, times: Any) -> Energy:
     """Kinetic, potential and dissipated energy at ``times`` (increasing, from 0).
 
     A scene given in the seed's normalised form with a non-symmetric A is first
-    rescaled to symmetric M, K (see :func:`laplace_springs.output.drawing.physical_matrices`),
+    rescaled to symmetric M, K (see :func:`laplace_springs.output.chain.physical_matrices`),
     so that the energy is the physical one up to a common factor.
 
     Examples

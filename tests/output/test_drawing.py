@@ -14,7 +14,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 import laplace_springs as ls
-from laplace_springs.output.drawing import chain_of, draw_scene, math_label, physical_matrices
+from laplace_springs.output.chain import chain_of, math_label, physical_matrices
+from laplace_springs.output.drawing import draw_scene
 
 
 def _axes():

@@ -12,7 +12,7 @@ import sympy as sp
 import laplace_springs as ls
 
 pytest.importorskip("ipywidgets")
-from laplace_springs.publish.explore import explore  # noqa: E402
+from laplace_springs.publish.explore import explore
 
 
 def _formula_values(latex: str, times: np.ndarray) -> np.ndarray:
