@@ -27,6 +27,8 @@ from ..model.symbols import TIME
 from ..numeric.first_order import scene_arrays
 from ..numeric.sampled import SampledInput, sampled_inputs
 from ..numeric.times import Times
+from ..planning.execute import Evaluator, execute
+from ..planning.request import request_for
 from ..solution import Solution, Verification
 from .exact import ExactSolution
 
@@ -92,24 +94,39 @@ class SampledSolution(Solution):
     def _escalation_engine(self) -> str | None:  # type: ignore[override]
         return self.escalation
 
-    def _sampled_float(self, hi: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
-        values = np.zeros((self.scene.n, hi.size))
+    def _sampled_float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        values = np.zeros((self.scene.n, len(times)))
         bounds = np.zeros_like(values)
         for response in self.inputs:
-            v, b = response.values(hi, order)
+            v, b = response.values(times.hi, times.lo, order)
             values += v.T
             bounds += b.T
         return values, bounds
 
-    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
-        values, bounds = self.base._float(times, order)
-        more, more_bounds = self._sampled_float(times.hi, order)
-        values = values + more
-        bounds = bounds + more_bounds + 4 * np.finfo(float).eps * np.abs(values)
-        if times.lo.any():  # a decimal time: the float evaluated at hi, off by lo·x'
-            slope = np.abs(self._sampled_float(times.hi, min(order + 1, 2))[0])
-            bounds = bounds + 2 * np.abs(times.lo)[None, :] * slope
+    def _own_engines(self) -> dict[str, Evaluator]:
+        own: dict[str, Evaluator] = {self.method: self._combined}
+        if self.escalation is not None:
+            own[self.escalation] = self._escalate
+        return own
+
+    def _combined(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        """The base through its own plan (its escalations included) plus the sampled
+        responses in float64 (double-double states)."""
+        values, bounds = self._base_values(times, order, target)
+        more, more_bounds = self._sampled_float(times, order)
+        total = values + more
+        return total, bounds + more_bounds + np.finfo(float).eps * np.abs(total)
+
+    def _base_values(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        if not self.base._planned:
+            return self.base._float(times, order)
+        plan = self.base._plan(request_for(times, target=target, dps=None, order=order))
+        values, bounds, _ = execute(plan, self.base._evaluator, times, self.scene.n, order, target,
+                                    self.base._floor(order), progress=False)
         return values, bounds
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        return self._combined(times, order, self.target)
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         if not self._mp_ok:
