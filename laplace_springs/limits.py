@@ -88,6 +88,11 @@ class Limits:
     #: Largest number of floats of Chebyshev vectors held at once (1 GB): n·(N+1) per
     #: initial vector, N ≈ t_max·√‖M⁻¹K‖/2 + a few dozen.
     chebyshev_max_vector_floats: int = 125_000_000
+    #: Largest growth e^{μ·t_max} the Chebyshev route accepts when its verified interval of
+    #: M⁻¹K reaches below 0 (K not proved positive definite): its bound is about u times
+    #: that growth of the data, 2e-13 at 1e3 (measured: a dense K = BBᵀ + 100·I of 100
+    #: masses, Gershgorin down to −8,791, gave a bound of 2.6e27 at t = 1).
+    chebyshev_max_growth: float = 1e3
     #: Largest number of Taylor steps one krylov evaluation takes (its cost grows linearly
     #: with the last time: about 2·t·ν steps).
     krylov_max_steps: int = 200_000
