@@ -43,7 +43,6 @@ import sympy as sp
 from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
-from .bench import harness as bm
 from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
@@ -59,7 +58,6 @@ from .model.units import (
 )
 from .output.plots import overview_figure, plot_frequency_response
 from .output.text import formula_lines, formula_terms, modal_formula_lines, summary_lines
-from .publish.commands import add_publish_commands
 from .solution import Solution
 from .solving import solve
 
@@ -98,8 +96,22 @@ def _is_user_error(exc: BaseException) -> bool:
     return os.path.abspath(frames[-1].filename).startswith(_PACKAGE)  # raised by our own check
 
 
-def _build_parser() -> argparse.ArgumentParser:
-    """The argument parser with its ``solve`` and ``scenes`` subcommands."""
+#: Subcommands whose modules (animation, pages, sweeps) are imported only when they run or
+#: when the whole command list is shown: ``solve`` starts without them.
+_PUBLISH_COMMANDS = ("animate", "page")
+#: Subcommands that need none of those modules.
+_CORE_COMMANDS = ("solve", "scenes", "bench", "response")
+
+
+def _needs_publish(argv: Sequence[str]) -> bool:
+    """Whether the parser must hold ``animate`` and ``page``: unless the first word that is
+    not an option names a core command."""
+    first = next((word for word in argv if not word.startswith("-")), None)
+    return first not in _CORE_COMMANDS
+
+
+def _build_parser(*, publish: bool = True) -> argparse.ArgumentParser:
+    """The argument parser with its subcommands (``animate`` and ``page`` when ``publish``)."""
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Exact Laplace-transform solutions of spring-mass-damper systems.",
@@ -157,7 +169,9 @@ def _build_parser() -> argparse.ArgumentParser:
     scenes.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     _add_bench_command(commands)
     _add_response_command(commands)
-    add_publish_commands(commands, _add_common_options, _scene_of)  # animate, page
+    if publish:  # animate, page
+        from .publish.commands import add_publish_commands  # start-up of the other commands
+        add_publish_commands(commands, _add_common_options, _scene_of)
     return parser
 
 
@@ -591,6 +605,8 @@ def _add_bench_command(commands) -> None:
     bench.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
 
     def run(args: argparse.Namespace, out: TextIO) -> None:
+        from .bench import harness as bm  # the battery and the peers: loaded for this command only
+
         if args.time_limit <= 0 or args.sympy_limit <= 0:
             raise UsageError("--time-limit and --sympy-limit must be positive")
         def split(text):
@@ -652,7 +668,7 @@ def main(argv: list[str] | None = None) -> int:
         (one line ``laplace-springs: internal error: ...``; ``--debug`` adds the traceback);
         130 when interrupted.
     """
-    parser = _build_parser()
+    parser = _build_parser(publish=_needs_publish(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
         if getattr(args, "command", None) == "solve" and args.scene is None and not args.equations:
