@@ -96,10 +96,8 @@ def _is_user_error(exc: BaseException) -> bool:
     return os.path.abspath(frames[-1].filename).startswith(_PACKAGE)  # raised by our own check
 
 
-#: Subcommands whose modules (animation, pages, sweeps) are imported only when they run or
-#: when the whole command list is shown: ``solve`` starts without them.
-_PUBLISH_COMMANDS = ("animate", "page")
-#: Subcommands that need none of those modules.
+#: Subcommands that need none of the publish stage's modules (animation, pages, sweeps):
+#: ``animate`` and ``page`` are added to the parser only for the others and the help.
 _CORE_COMMANDS = ("solve", "scenes", "bench", "response")
 
 
