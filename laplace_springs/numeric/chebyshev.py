@@ -71,6 +71,7 @@ from typing import Any
 import numpy as np
 from flint import fmpq
 
+from ..kernels.batch import columns_product, rows_product
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
@@ -84,7 +85,8 @@ from .classical import (
 )
 from .first_order import rational_entries, scene_cache
 
-__all__ = ["rayleigh_coefficients", "ChebyshevMotion", "chebyshev_motion"]
+__all__ = ["rayleigh_coefficients", "ChebyshevMotion", "chebyshev_motion", "chebyshev_refusal",
+           "chebyshev_cost", "chebyshev_interval", "chebyshev_degree", "verified_interval"]
 
 _EPS = float(np.finfo(float).eps)
 _U = _EPS / 2
@@ -276,6 +278,207 @@ def _tails(coef: np.ndarray, acoef: np.ndarray) -> np.ndarray:
     return (aR + 2 * after) * (1 + gamma)
 
 
+# ----------------------------------------------------------------------------- the interval
+
+
+def verified_interval(data: SymmetricScene, *, exact: bool) -> tuple[float, float, int, bool]:
+    """[lo, hi] ⊇ the spectrum of M⁻¹K, verified: (lo, hi, K's largest row width, whether
+    K was proved positive definite).
+
+    Gershgorin's discs of M⁻¹K and of M^{-1/2}KM^{-1/2} (the smaller radius per row),
+    widened by 8(w + 4)u of the largest disc for the float64 sums (w the row width) and
+    for the rounding of the entries: an upper bound hi in any case. Where the discs reach
+    below 0 (off-diagonal entries larger than the diagonal, as in a dense K = BBᵀ + cI), K
+    is checked positive definite by a Cholesky factorization of K − sI in float64 that
+    runs to completion (Rump, "Verification of positive definiteness", BIT 46, 2006:
+    the computed factor satisfies R̃ᵀR̃ = K − sI + ΔK with ‖ΔK‖₂ ≤ γ/(1 − γ)·tr K for
+    γ = γ_{2(w+2)}, so s = 2γ/(1 − γ)·tr K (+ u‖K‖_F when the float64 K is rounded)
+    leaves K ≻ 0); then lo = 0. Banded K up to Limits.banded_max_bandwidth and dense K up
+    to Limits.dense_eigenvalues_max_coordinates are checked; otherwise lo stays
+    Gershgorin's.
+
+    Examples
+    --------
+    >>> from laplace_springs.numeric.classical import symmetric_scene
+    >>> K = [[10, -9, -9], [-9, 10, 8], [-9, 8, 10]]        # positive definite, not dominant
+    >>> data = symmetric_scene(Scene.from_matrices(M=[[1, 0, 0], [0, 1, 0], [0, 0, 1]], K=K,
+    ...                                            x0=[1, 0, 0], v0=[0, 0, 0]))
+    >>> lo, hi, width, definite = verified_interval(data, exact=True)
+    >>> lo, round(hi, 6), definite
+    (0.0, 28.0, True)
+    """
+    K = data.K.tocsr()
+    m = data.mass
+    diag = K.diagonal()
+    absK = abs(K)
+    row = np.asarray(absK.sum(axis=1)).ravel() - np.abs(diag)
+    root = np.sqrt(m)
+    sym = np.asarray(absK @ (1 / root)).ravel() / root - np.abs(diag) / m
+    center = diag / m
+    radius = np.minimum(row / m, sym)
+    if data.n == 0:
+        return 0.0, 0.0, 0, True
+    lo, hi = float(np.min(center - radius)), float(np.max(center + radius))
+    width = int(np.max(np.diff(K.indptr), initial=0))
+    scale = float(np.max(np.abs(center) + np.maximum(row / m, sym), initial=0.0))
+    pad = 4 * (width + 4) * _EPS * scale + 1e-300
+    lo, hi = lo - pad, hi + pad
+    definite = False
+    if lo < 0 and data.n:
+        definite = _positive_definite(K, data.bandwidth, exact)
+        if definite:
+            lo = 0.0
+    return lo, hi, width, definite
+
+
+def _positive_definite(K: Any, bandwidth: int, exact: bool) -> bool:
+    """Whether a float64 Cholesky factorization proves the symmetric K positive definite
+    (see :func:`verified_interval`); False when it fails or K is too large to try."""
+    lapack = _scipy().linalg.lapack
+    n = K.shape[0]
+    diag = K.diagonal()
+    if np.any(~(diag > 0)):
+        return False
+    lim = limits()
+    if bandwidth > lim.banded_max_bandwidth and n > lim.dense_eigenvalues_max_coordinates:
+        return False
+    terms = 2 * (min(bandwidth, n - 1) + 2)
+    gamma = terms * _U / (1 - terms * _U)
+    shift = 2 * gamma / (1 - gamma) * float(np.sum(diag)) * (1 + n * _EPS)
+    if not exact:
+        shift += _U * float(np.sqrt(np.sum(K.data * K.data))) * (1 + n * _EPS)
+    shift = shift * 1.01 + n * 1e-290
+    if bandwidth <= lim.banded_max_bandwidth:
+        bands = np.zeros((bandwidth + 1, n))
+        for k in range(bandwidth + 1):
+            bands[k, : n - k] = K.diagonal(-k)
+        bands[0] -= shift
+        _, info = lapack.dpbtrf(bands, lower=1)
+    else:
+        dense = K.toarray()
+        dense[np.diag_indices(n)] -= shift
+        _, info = lapack.dpotrf(dense, lower=1)
+    return bool(info == 0)
+
+
+def _mu_at(lo: float, a: float, b: float) -> float:
+    """The growth rate of the modes at a stiffness lo < 0 (c = a·lo + b)."""
+    if lo >= 0:
+        return 0.0
+    return float(_mu(np.array([math.sqrt(-lo)]), np.array([a * lo + b]))[0])
+
+
+def chebyshev_interval(scene: Scene) -> tuple[float, float] | None:
+    """The verified interval [lo, hi] ⊇ spectrum of M⁻¹K the engine expands on (cached with
+    the scene), or None for a scene the engine does not take (not Rayleigh-damped, M not
+    diagonal and positive).
+
+    >>> chebyshev_interval(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))[1] > 4
+    True
+    """
+    cache = scene_cache(scene)
+    if "chebyshev_interval" not in cache:
+        coefficients = rayleigh_coefficients(scene)
+        found = None
+        if coefficients is not None:
+            data = symmetric_scene(scene, damping=coefficients)
+            if data.diagonal and np.all(data.mass > 0):
+                lo, hi, _, _ = verified_interval(data, exact=_exact_data(scene))
+                found = (lo, hi)
+        cache["chebyshev_interval"] = found
+    return cache["chebyshev_interval"]  # type: ignore[no-any-return]
+
+
+def chebyshev_degree(lo: float, hi: float, a: float, b: float, t_max: float, order: int = 0) -> int:
+    """The expansion degree N the engine uses for times up to t_max on [lo, hi] (the
+    least N whose truncation bound is below u/64 of the data, in multiples of 16)."""
+    rad = max((hi - lo) / 2, 1e-300)
+    ellipses = _Ellipses(lo + rad, rad, a, b)
+    log_tol = math.log(_U / 64)
+    t = np.array([max(float(t_max), 0.0)])
+    need = max(float(ellipses.degrees(kind, order, t, log_tol)[0]) for kind in ("F", "G"))
+    return int(16 * math.ceil(max(need, 1) / 16))
+
+
+def chebyshev_refusal(scene: Scene, *, t_max: float, count: int, order: int) -> str | None:
+    """None when the Chebyshev engine serves this request, else why not (one sentence,
+    naming the Limits field when it is a limit). Reads the scene's entries and the verified
+    interval (a Gershgorin pass, and a Cholesky factorization where K is not diagonally
+    dominant); no eigenvalues.
+
+    Examples
+    --------
+    >>> chain = Scene.from_matrices(M=[[1, 0], [0, 1]], K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 0])
+    >>> chebyshev_refusal(chain, t_max=10.0, count=5, order=0) is None
+    True
+    >>> print(chebyshev_refusal(chain, t_max=1e9, count=5, order=0))
+    the expansion to t = 1e+09 holds 1 x 369,374,257 vectors of 2 entries, more than Limits.chebyshev_max_vector_floats = 125,000,000 floats (the degree grows like t·√‖M⁻¹K‖)
+    >>> indefinite = Scene.from_matrices(M=[[1, 0], [0, 1]], K=[[1, 3], [3, 1]], x0=[1, 0], v0=[0, 0])
+    >>> print(chebyshev_refusal(indefinite, t_max=10.0, count=5, order=0))
+    the verified interval of M⁻¹K reaches down to -2 (K not proved positive definite): the expansion may grow like e^{14.1} by t = 10, more than Limits.chebyshev_max_growth = 1000
+    """
+    if scene.is_forced or scene.sampled is not None:
+        return "the scene is forced"
+    if scene.free_symbols:
+        return "the scene has symbols"
+    coefficients = rayleigh_coefficients(scene)
+    if coefficients is None:
+        return "the damping is not Rayleigh's (C = aK + bM, a, b ≥ 0, with a diagonal positive M)"
+    interval = chebyshev_interval(scene)
+    if interval is None:
+        return "the mass matrix is not diagonal and positive"
+    lim = limits()
+    if scene.n > lim.chebyshev_max_coordinates:
+        return (f"coordinates {scene.n:,} > Limits.chebyshev_max_coordinates = "
+                f"{lim.chebyshev_max_coordinates:,}")
+    lo, hi = interval
+    a, b = (float(c) for c in coefficients)
+    growth = _mu_at(lo, a, b) * max(t_max, 0.0)
+    if growth > math.log(lim.chebyshev_max_growth):
+        return (f"the verified interval of M⁻¹K reaches down to {lo:.3g} (K not proved positive "
+                f"definite): the expansion may grow like e^{{{growth:.3g}}} by t = {t_max:g}, more "
+                f"than Limits.chebyshev_max_growth = {lim.chebyshev_max_growth:g}")
+    N = chebyshev_degree(lo, hi, a, b, t_max, order)
+    columns = 2 if any(v != 0 for v in scene.v0) else 1
+    if (N + 1) * scene.n * columns > lim.chebyshev_max_vector_floats:
+        return (f"the expansion to t = {t_max:g} holds {columns} x {N + 1:,} vectors of "
+                f"{scene.n:,} entries, more than Limits.chebyshev_max_vector_floats = "
+                f"{lim.chebyshev_max_vector_floats:,} floats (the degree grows like t·√‖M⁻¹K‖)")
+    return None
+
+
+def chebyshev_cost(scene: Scene, *, t_max: float, count: int, order: int) -> float:
+    """Estimated seconds for a request: reading the scene and the interval, the recurrence
+    (N sparse products with K), and for every time the nodes' functions, a DCT and the
+    product of the n x (N+1) vectors with the coefficients, N = :func:`chebyshev_degree`.
+
+    The model (the development machine, 2 cores, OpenBLAS; fitted to Rayleigh chains of
+    1,000 to 100,000 masses at t = 10 to 1,000 and 1 to 1,000 times): 5e-6 s per nonzero
+    read; the recurrence 6e-9 s per (nonzero of K + n) and degree (long-double products);
+    per time 4e-8·N·log N (nodes, DCT) + 2e-9·n·N (the product) + 1e-9·n·N for the bound;
+    a third more per derivative order. Memory: the vectors, 8·n·(N + 1) bytes per column.
+
+    >>> chain = Scene.from_matrices(M=[[1, 0], [0, 1]], C=[[1, 0], [0, 1]],
+    ...                             K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 0])
+    >>> 0 < chebyshev_cost(chain, t_max=10.0, count=100, order=0) < 1
+    True
+    """
+    interval = chebyshev_interval(scene)
+    coefficients = rayleigh_coefficients(scene)
+    if interval is None or coefficients is None:
+        return math.inf
+    lo, hi = interval
+    a, b = (float(c) for c in coefficients)
+    N = chebyshev_degree(lo, hi, a, b, t_max, order)
+    n = scene.n
+    nnz = sum(len(rational_entries(scene, name) or {}) for name in ("M", "C", "K"))
+    columns = 2 if any(v != 0 for v in scene.v0) else 1
+    read = 5e-6 * nnz
+    recurrence = 6e-9 * (nnz + n) * N * columns
+    per_time = (4e-8 * N * math.log2(N + 2) + 3e-9 * n * N * columns) * (1 + order / 3)
+    return read + recurrence + count * per_time
+
+
 class ChebyshevMotion:
     """x(t) of a Rayleigh-damped scene with a diagonal M by Chebyshev expansion in M⁻¹K
     (see the module notes). Built by :func:`chebyshev_motion`.
@@ -308,18 +511,9 @@ class ChebyshevMotion:
         d = self.data
         K = d.K.tocsr()
         m = d.mass
-        diag = K.diagonal()
+        lo, hi, width, _ = verified_interval(d, exact=self.exact_data)
         absK = abs(K)
-        row = np.asarray(absK.sum(axis=1)).ravel() - np.abs(diag)
         root = np.sqrt(m)
-        sym = np.asarray(absK @ (1 / root)).ravel() / root - np.abs(diag) / m
-        center = diag / m
-        radius = np.minimum(row / m, sym)
-        lo, hi = float(np.min(center - radius)), float(np.max(center + radius))
-        width = int(np.max(np.diff(K.indptr), initial=0))
-        scale = float(np.max(np.abs(center) + np.maximum(row / m, sym), initial=0.0))
-        pad = 4 * (width + 4) * _EPS * scale + 1e-300
-        lo, hi = lo - pad, hi + pad
         rad = max((hi - lo) / 2 * (1 + 4 * _EPS), 1e-12 * max(abs(lo), abs(hi), 1e-300))
         mid = lo + rad
         while mid - rad > lo or mid + rad < hi:  # rounding: widen a few ulps at a time
@@ -635,20 +829,18 @@ class ChebyshevMotion:
         values = np.zeros((n, len(t)))
         errors = np.zeros(len(t))       # in the M-norm
         uniform = np.zeros(len(t))      # the same for every entry
+        served = np.ones(len(t), dtype=bool)
         if len(t):
             degrees = self._degrees(t, order)
-            top = int(np.max(degrees))
             columns = 2 if np.any(self.data.v0) else 1
-            if (top + 1) * self.n * columns > limits().chebyshev_max_vector_floats:
-                raise SceneError(
-                    f"the Chebyshev expansion of this scene would hold {columns} x {top + 1:,} "
-                    f"vectors of {self.n:,} entries to reach t = {float(np.max(t)):g}, more than "
-                    f"Limits.chebyshev_max_vector_floats = {limits().chebyshev_max_vector_floats:,} floats; evaluate shorter times "
-                    "(the degree grows like t·√‖M⁻¹K‖)")
+            # a time whose vectors would not fit is not served (an infinite bound: the
+            # planner's next engine takes it; chebyshev_refusal declines such requests)
+            served = (degrees + 1) * self.n * columns <= limits().chebyshev_max_vector_floats
+            top = int(np.max(degrees[served], initial=0))
             V, vinf, vec_err = self._recurrence(top)
-            for N in (int(value) for value in np.unique(degrees)):
+            for N in (int(value) for value in np.unique(degrees[served])):
                 lam, dlam = self._nodes(N)
-                where = np.flatnonzero(degrees == N)
+                where = np.flatnonzero((degrees == N) & served)
                 chunk = max(1, _CHUNK // (N + 1))
                 for start in range(0, len(where), chunk):
                     part = where[start:start + chunk]
@@ -659,6 +851,7 @@ class ChebyshevMotion:
                     uniform[part] = w
         bounds = np.outer(1 / self._operator["root"], errors * (1 + 8 * _EPS))
         bounds += uniform * (1 + 8 * _EPS)
+        bounds[:, ~served] = np.inf
         self._last = (key, (values, bounds))
         return values, bounds
 
@@ -686,7 +879,8 @@ class ChebyshevMotion:
             coef_work[-1] /= 2
             coef = coef_work.astype(float)
             for start in range(0, N + 1, block):  # error γ_block + γ_blocks
-                values += V[column][:, start:start + block] @ coef[start:start + block]
+                values += columns_product(V[column][:, start:start + block],
+                                          coef[start:start + block])
                 blocks += 1
             acoef = np.abs(coef)
             with np.errstate(over="ignore", invalid="ignore"):
@@ -695,8 +889,8 @@ class ChebyshevMotion:
                 dct = dct_factor * np.sqrt(np.sum(acoef * acoef, axis=0))
                 size = np.max(np.abs(f), axis=0) + trunc + nodal + dct  # ≥ max |p̂_N|
                 total += (trunc + nodal + dct + 2 * _U * size) * norm
-                total += _tails(coef, acoef)[1:].T @ vec_err[column][:-1]
-                products += acoef.T @ vinf[column]
+                total += rows_product(_tails(coef, acoef)[1:].T, vec_err[column][:-1, None])[:, 0]
+                products += rows_product(acoef.T, vinf[column][:, None])[:, 0]
         # the product in blocks (γ_block + γ_blocks), the rounding of the coefficients and of
         # the vectors to float64 (u each), relative to Σ_k |c_k||V_ik|
         factor = 1.01 * (block + blocks + 2) * _U
@@ -728,11 +922,15 @@ def chebyshev_motion(scene: Scene) -> ChebyshevMotion:
     if coefficients is None:
         raise SceneError("the Chebyshev route needs Rayleigh damping C = aK + bM (a, b ≥ 0) "
                          "and a diagonal, positive M")
-    exact = all((value.q == 1 and -_TWO53 < value.p < _TWO53) or _is_double(value)
-                for name in ("M", "K")
-                for value in (rational_entries(scene, name) or {}).values())
     return ChebyshevMotion(symmetric_scene(scene, damping=coefficients), *coefficients,
-                           exact_data=exact)
+                           exact_data=_exact_data(scene))
+
+
+def _exact_data(scene: Scene) -> bool:
+    """Whether M's and K's entries are exactly float64 numbers."""
+    return all((value.q == 1 and -_TWO53 < value.p < _TWO53) or _is_double(value)
+               for name in ("M", "K")
+               for value in (rational_entries(scene, name) or {}).values())
 
 
 _TWO53 = 2**53

@@ -322,3 +322,79 @@ def test_benchmark_scenes_meet_the_target_with_their_own_bound(family):
     assert isinstance(sol.motion, ChebyshevMotion)
     values, bounds = sol.evaluate(np.linspace(0.0, 50.0, 1000), return_error=True)
     assert np.max(bounds) <= 1e-13 * np.max(np.abs(values))
+
+
+# -- issue 21: a verified interval, or a refusal -----------------------------------------
+
+
+def _dense_scene(n: int, seed: int = 0, shift: int | None = None) -> tuple[Scene, np.ndarray]:
+    B = np.random.default_rng(seed).integers(-5, 6, size=(n, n))
+    K = B @ B.T + (n if shift is None else shift) * np.eye(n, dtype=int)
+    scene = Scene.from_matrices(M=np.eye(n, dtype=int).tolist(), K=K.tolist(),
+                                x0=[1] + [0] * (n - 1), v0=[0] * n)
+    return scene, K
+
+
+@pytest.mark.parametrize("n", [30, 100])
+def test_dense_stiffness_not_diagonally_dominant(n):
+    # K = BBᵀ + n·I: Gershgorin reaches far below 0 (to -8,791 for n = 100), where the
+    # expansion grew like e^{94} and returned x₁(1) = 2.9e23; the Cholesky proof of K ≻ 0
+    # moves the interval's lower end to 0. Reference: scipy.linalg.eigh (K is well
+    # conditioned: eigenvalues in [100, 4255] for n = 100).
+    import scipy.linalg as sl
+
+    scene, K = _dense_scene(n)
+    lo, hi = chebyshev.chebyshev_interval(scene)
+    w, V = sl.eigh(K.astype(float))
+    assert lo == 0.0 and hi >= w[-1]
+    times = np.array([0.5, 1.0, 3.0])
+    motion = chebyshev_motion(scene)
+    values, bounds = motion.values(times), motion.bound(times)
+    ref = V @ (np.cos(np.outer(np.sqrt(w), times)) * V[0][:, None])
+    error = np.abs(values - ref)
+    assert np.all(error <= bounds), np.max(error / bounds)
+    assert np.max(bounds) <= 1e-12
+
+
+def test_an_indefinite_stiffness_is_declined_past_the_growth_limit():
+    # K with a negative eigenvalue (-2): the motion does grow like cosh(√2 t); the interval
+    # cannot be proved nonnegative, and past e^{μt} > Limits.chebyshev_max_growth the engine
+    # declines; below it the bound still covers the error (40-digit reference)
+    scene = Scene.from_matrices(M=[[1, 0], [0, 1]], K=[[1, 3], [3, 1]], x0=[1, 0], v0=[0, 0])
+    assert chebyshev.chebyshev_interval(scene)[0] < 0
+    assert chebyshev.chebyshev_refusal(scene, t_max=1.0, count=3, order=0) is None
+    why = chebyshev.chebyshev_refusal(scene, t_max=10.0, count=3, order=0)
+    assert why is not None and "Limits.chebyshev_max_growth" in why
+    times = np.array([0.25, 1.0])
+    motion = chebyshev_motion(scene)
+    with mpmath.workdps(40):   # x'' = −Kx: the exponential of [[0, I], [−K, 0]]·t
+        Z = mpmath.matrix([[0, 0, 1, 0], [0, 0, 0, 1], [-1, -3, 0, 0], [-3, -1, 0, 0]])
+        ref = np.array([[float((mpmath.expm(Z * mpmath.mpf(t)) * mpmath.matrix([1, 0, 0, 0]))[i])
+                         for t in times] for i in range(2)])
+    assert np.all(np.abs(motion.values(times) - ref) <= motion.bound(times))
+
+
+def test_times_beyond_the_vector_memory_get_an_infinite_bound(set_limits):
+    # instead of a SceneError from deep inside: the time is not served (the planner's next
+    # engine takes it), the others are
+    n = 6
+    scene = chain(n, a="0", b="0")
+    set_limits(chebyshev_max_vector_floats=400)
+    motion = chebyshev_motion(scene)
+    times = np.array([1.0, 500.0])
+    bounds = motion.bound(times)
+    assert np.all(np.isfinite(bounds[:, 0])) and np.all(np.isinf(bounds[:, 1]))
+    why = chebyshev.chebyshev_refusal(scene, t_max=500.0, count=2, order=0)
+    assert why is not None and "Limits.chebyshev_max_vector_floats" in why
+
+
+def test_cost_and_degree_follow_the_engine():
+    scene = chain(40)
+    lo, hi = chebyshev.chebyshev_interval(scene)
+    a, b = (float(c) for c in rayleigh_coefficients(scene))
+    motion = chebyshev_motion(scene)
+    for t in (1.0, 10.0, 100.0):
+        assert chebyshev.chebyshev_degree(lo, hi, a, b, t) == int(motion._degrees(np.array([t]), 0)[0])
+    costs = [chebyshev.chebyshev_cost(scene, t_max=t, count=c, order=0)
+             for t, c in ((1.0, 10), (100.0, 10), (100.0, 1000))]
+    assert 0 < costs[0] < costs[1] < costs[2]
