@@ -386,7 +386,8 @@ def chebyshev_interval(scene: Scene) -> tuple[float, float] | None:
                 lo, hi, _, _ = verified_interval(data, exact=_exact_data(scene))
                 found = (lo, hi)
         cache["chebyshev_interval"] = found
-    return cache["chebyshev_interval"]  # type: ignore[no-any-return]
+    interval: tuple[float, float] | None = cache["chebyshev_interval"]
+    return interval
 
 
 def chebyshev_degree(lo: float, hi: float, a: float, b: float, t_max: float, order: int = 0) -> int:
