@@ -9,6 +9,13 @@ with a, b, c, d, φ exact real numbers or symbols. Its transform is
 F(s) = Σ_τ e^{-sτ} R_τ(s) with rational R_τ: one rational part per delay τ ≥ 0. The
 solution stage turns each part into a response switched on at τ.
 
+Sizes. An input is held to :attr:`~laplace_springs.limits.Limits.max_forcing_terms` atoms
+and :attr:`~laplace_springs.limits.Limits.max_forcing_degree` in t, estimated from the
+expression before it is expanded (:mod:`laplace_springs.model.forcing_size`), and to
+:attr:`~laplace_springs.limits.Limits.max_forcing_delays` switching times and
+:attr:`~laplace_springs.limits.Limits.max_forcing_constants` irrational or symbolic
+constants, counted on its atoms before their fractions are summed.
+
 Inside the module every product is reduced to atoms c · t^k · e^{z t} switched on at τ
 (z complex: a ± i b), whose transform is c · k!/(s - z)^{k+1} times e^{-sτ}; the atoms
 of each delay are summed and brought back to a real rational function.
@@ -26,7 +33,9 @@ from typing import Any
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .errors import SceneError
+from ..limits import limits
+from .errors import LimitError, SceneError
+from .forcing_size import check_forcing_size
 from .numbers import ALLOWED_FUNCTIONS, parse_expression, to_exact
 from .periodic import PERIODIC_FUNCTIONS, Periodic, common_period
 from .sampled import Sampled
@@ -75,6 +84,13 @@ def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | 
     SceneError
         For text that does not parse, or an input whose transform is not rational times
         delays (e.g. ``1/(t + 1)``, ``cos(t**2)``); the message names ``entry``.
+    LimitError
+        For an input beyond the limits of :mod:`laplace_springs.model.forcing_size`
+        (``t**1000``, ``(cos(t) + sin(2*t))**30``, 10⁴ steps), checked on the expression
+        before any work is done on it, and one whose terms switch at more than
+        :attr:`~laplace_springs.limits.Limits.max_forcing_delays` times or hold more than
+        :attr:`~laplace_springs.limits.Limits.max_forcing_constants` irrational or
+        symbolic constants.
 
     Examples
     --------
@@ -91,7 +107,9 @@ def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | 
         expr = parse_expression(value.strip(), entry, variables=parameters,
                                 expected="an expression in t",
                                 allowed_functions={**ALLOWED_FUNCTIONS, **PERIODIC_FUNCTIONS})
+        check_forcing_size(expr, entry)
     elif isinstance(value, sp.Basic):
+        check_forcing_size(value, entry)  # before any work on it: SymPy input has no text limits
         time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
         _refuse_unknown_functions(value, entry)
         expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)
@@ -238,7 +256,6 @@ class _Unsupported(Exception):
 _KINDS = "a power t**k, exp, cos, sin, cosh, sinh, Heaviside or DiracDelta of a linear argument"
 
 
-@lru_cache(maxsize=512)
 def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> InputTransform:
     """Exact Laplace transform of a forcing input, one rational part per delay.
 
@@ -262,8 +279,8 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
 
     Notes
     -----
-    Results are cached: scene construction, :func:`laplace_springs.solve` and
-    ``verify`` all ask for the same transforms.
+    Results are cached (with the limits in force): scene construction,
+    :func:`laplace_springs.solve` and ``verify`` all ask for the same transforms.
 
     Examples
     --------
@@ -275,8 +292,13 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     >>> input_transform(parse_forcing("DiracDelta(t - 2)", "f"), "f", s).parts
     ((2, 1),)
     """
-    if s is None:
-        s = lam
+    return _transform(f, entry, lam if s is None else s, limits())
+
+
+@lru_cache(maxsize=512)
+def _transform(f: sp.Expr, entry: str, s: sp.Symbol, _limits: Any) -> InputTransform:
+    """:func:`input_transform` under the limits ``_limits`` (part of the cache key)."""
+    check_forcing_size(f, entry)
     try:
         terms = sp.Add.make_args(_expanded(f))
         atoms = [atom for term in terms if not term.has(Periodic) for atom in _term_atoms(term)]
@@ -287,12 +309,64 @@ def input_transform(f: sp.Expr, entry: str, s: sp.Symbol | None = None) -> Input
     by_delay: dict[sp.Expr, list[_Atom]] = {}
     for atom in atoms:
         by_delay.setdefault(atom.delay, []).append(atom)
+    _check_parts(by_delay, periodic, entry)
     parts = []
     for tau in sorted_delays(by_delay):
         R = _real_rational(by_delay[tau], s)
         if R != 0:
             parts.append((tau, R))
     return InputTransform(tuple(parts), s, period, periodic, switch_conditions(f))
+
+
+def _check_parts(by_delay: Mapping[sp.Expr, list[_Atom]],
+                 periodic: tuple[tuple[sp.Expr, sp.Expr], ...], entry: str) -> None:
+    """Limits.max_forcing_delays and Limits.max_forcing_constants, on the atoms of an input
+    before their fractions are summed (each delay is one more exact solve of the scene,
+    and each constant one more variable of every polynomial the solve forms)."""
+    delays = len(by_delay) + len(periodic)
+    if delays > limits().max_forcing_delays:
+        raise LimitError(
+            f"{entry}: the input switches at {delays} different times, above the limit "
+            f"{limits().max_forcing_delays} (Limits.max_forcing_delays); give it as samples "
+            "(ls.sampled) or as a periodic input (ls.periodic)")
+    constants: set[sp.Basic] = set()
+    for atoms in by_delay.values():
+        for atom in atoms:
+            for part in (atom.coefficient, atom.rate, atom.delay):
+                if not part.is_Rational:
+                    constants |= _constants(part)
+    if len(constants) > limits().max_forcing_constants:
+        listed = ", ".join(sorted(map(_shown_constant, constants))[:6])
+        raise LimitError(
+            f"{entry}: the input's terms hold {len(constants)} different irrational or symbolic "
+            f"constants ({listed}, ...), above the limit {limits().max_forcing_constants} "
+            "(Limits.max_forcing_constants); give phases and switching times as rationals, or "
+            "the force as samples (ls.sampled)")
+
+
+def _constants(expr: sp.Expr) -> set[sp.Basic]:
+    """The generators of ``expr`` over ℚ: symbols, function values such as cos(1/2), roots
+    such as √2 and constants such as π; a phase e^{±ib} (cos b and sin b) counts once."""
+    found: set[sp.Basic] = set(expr.free_symbols)
+    for function in expr.atoms(sp.Function):
+        if function.has(t):
+            continue
+        if isinstance(function, sp.exp):
+            a, b = _split_imaginary(function.args[0])
+            function = sp.exp(a + sp.I * min(b, sp.expand(-b), key=sp.default_sort_key))  # noqa: PLW2901
+        found.add(function)
+    found |= {p for p in expr.atoms(sp.Pow) if p.is_number and not p.exp.is_Integer}
+    found |= expr.atoms(sp.NumberSymbol)
+    return found - {sp.S.One}
+
+
+def _shown_constant(constant: sp.Basic) -> str:
+    """A constant as the input shows it: e^{ib} as cos(b)."""
+    if isinstance(constant, sp.exp):
+        a, b = _split_imaginary(constant.args[0])
+        if a == 0 and b != 0:
+            return str(sp.cos(b, evaluate=False)) if b.is_positive else str(sp.cos(-b, evaluate=False))
+    return str(constant)
 
 
 def _expanded(f: sp.Expr) -> sp.Expr:
@@ -376,6 +450,7 @@ def _term_atoms(term: sp.Expr) -> list[_Atom]:
     if deltas:
         return _impulse_atoms(term, coefficient, deltas[0])
     atoms = []
+    products = _wave_products(waves)
     for switch in itertools.product(*switches):
         sign = sp.Mul(*(sgn for sgn, _ in switch))
         try:
@@ -383,11 +458,23 @@ def _term_atoms(term: sp.Expr) -> list[_Atom]:
         except UndecidableOrder as exc:
             raise _Unsupported(term, f"{term} multiplies steps at {exc.first} and {exc.second}: "
                                "their order is unknown (declare the parameters' signs)") from None
-        for wave in itertools.product(*waves):
-            weight = coefficient * sign * sp.Mul(*(w for w, _ in wave))
-            rate = sp.Add(*(z for _, z in wave))
-            atoms.extend(_shifted(weight, power, rate, delay))
+        for rate, weight in products.items():
+            atoms.extend(_shifted(coefficient * sign * weight, power, rate, delay))
     return atoms
+
+
+def _wave_products(waves: list[list[tuple[sp.Expr, sp.Expr]]]) -> dict[sp.Expr, sp.Expr]:
+    """Π_f Σ w·e^{z t} over the wave factors, as rate -> weight, equal rates merged as the
+    product is formed: cos(t)**30 is 31 rates, not 2**30 products."""
+    products: dict[sp.Expr, sp.Expr] = {sp.S.Zero: sp.S.One}
+    for alternatives in waves:
+        merged: dict[sp.Expr, sp.Expr] = {}
+        for rate, weight in products.items():
+            for w, z in alternatives:
+                key = sp.expand(rate + z)
+                merged[key] = merged.get(key, sp.S.Zero) + weight * w
+        products = merged
+    return products
 
 
 def _wave(factor: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
@@ -484,28 +571,66 @@ def _real_rational(atoms: list[_Atom], s: sp.Symbol) -> sp.Expr:
     input is a real-form expression, so both occur, with conjugate weights c, c̄), and
     c k!/(s - z)^{k+1} + c̄ k!/(s - z̄)^{k+1} = k![c (s - z̄)^{k+1} + c̄ (s - z)^{k+1}]
     / ((s - a)² + b²)^{k+1}, whose numerator expands free of I.
+
+    The fractions are summed as polynomials in s (:func:`_sum_fractions`): one base
+    q = s - a or (s - a)² + b² per rate, so that 100 cosines take a second, not the
+    minutes of SymPy's ``together`` and ``cancel`` on the nested sum.
     """
     grouped: dict[tuple[sp.Expr, sp.Expr, int], sp.Expr] = {}
     for atom in atoms:
         key = (*_split_imaginary(atom.rate), atom.power)
         grouped[key] = grouped.get(key, sp.S.Zero) + atom.coefficient
-    total = sp.S.Zero
+    polynomial = sp.S.Zero
+    pieces: dict[tuple[sp.Expr, sp.Expr], list[tuple[int, sp.Expr]]] = {}
     done: set[tuple[sp.Expr, sp.Expr, int]] = set()
     for (a, b, k), coefficient in grouped.items():
         if (a, b, k) in done:
             continue
         if k < 0:
-            total += _real_form(coefficient)
+            polynomial += _real_form(coefficient)
             continue
         if b == 0:
-            total += _real_form(coefficient) * factorial(k) / (s - a) ** (k + 1)
+            pieces.setdefault((a, b), []).append((k, _real_form(coefficient) * factorial(k)))
             continue
         partner = (a, sp.expand(-b), k)
         done.add(partner)
         numerator = _real_form(factorial(k) * (coefficient * (s - a + sp.I * b) ** (k + 1)
                                                + grouped.get(partner, sp.S.Zero) * (s - a - sp.I * b) ** (k + 1)))
-        total += numerator / ((s - a) ** 2 + b ** 2) ** (k + 1)
-    return sp.factor_terms(sp.cancel(sp.together(total)))
+        rate = (a, partner[1]) if (a, partner[1]) in pieces else (a, b)
+        pieces.setdefault(rate, []).append((k, numerator))
+    fractions = [(s - a if b == 0 else sp.expand((s - a) ** 2 + b ** 2), items)
+                 for (a, b), items in pieces.items()]
+    return sp.factor_terms(sp.cancel(_sum_fractions(polynomial, fractions, s)))
+
+
+def _sum_fractions(polynomial: sp.Expr, fractions: list[tuple[sp.Expr, list[tuple[int, sp.Expr]]]],
+                   s: sp.Symbol) -> sp.Expr:
+    """polynomial + Σ_q Σ_k N_k / q^{k+1} as one fraction P/Q, formed with polynomials in s.
+
+    Each base q gets the exponent e = max k + 1 and the numerator Σ_k N_k q^{e-k-1}; the
+    bases are distinct, and the products of the other bases' powers come from prefix and
+    suffix products (linear in the number of bases).
+    """
+    exponents = [max(k for k, _ in items) + 1 for _, items in fractions]
+    given = [polynomial, *(q for q, _ in fractions),
+             *(numerator for _, items in fractions for _, numerator in items)]
+    polys, _ = sp.parallel_poly_from_expr(given, s)
+    total, bases, rest = polys[0], polys[1:1 + len(fractions)], iter(polys[1 + len(fractions):])
+    powers = [q ** e for q, e in zip(bases, exponents)]
+    numerators = []
+    for q, e, (_, items) in zip(bases, exponents, fractions):
+        numerators.append(sum((next(rest) * q ** (e - k - 1) for k, _ in items), total.zero))
+    prefix = [total.one]
+    for power in powers:
+        prefix.append(prefix[-1] * power)
+    suffix = [total.one]
+    for power in reversed(powers):
+        suffix.append(suffix[-1] * power)
+    suffix.reverse()
+    numerator = total * prefix[-1]
+    for i, part in enumerate(numerators):
+        numerator += part * prefix[i] * suffix[i + 1]
+    return numerator.as_expr() / prefix[-1].as_expr()
 
 
 def _refuse_unknown_functions(value: sp.Basic, entry: str) -> None:
