@@ -138,3 +138,27 @@ def test_close_pairs_need_no_exact_solver():
     rows = parameter_rows(compiled, values)
     _, _, exact_mask, _, set_error = evaluate_rows(compiled, rows, np.linspace(0, 20, 100))
     assert exact_mask.sum() <= 2 and np.all(set_error <= 1e-13)
+
+
+@pytest.mark.parametrize("start", [(1, 0), (0, 1), (1, -1)])
+def test_bounds_hold_at_tiny_values_near_critical_damping(start):
+    """Issue 21: x'' + c x' + x = 0 with c just above critical (2.0008 … 2.01), values
+    decayed to 1e-22 … 1e-54: every entry's bound is above its true error. The set means
+    the decimal value of c (as Scene.subs reads a float), so the reference is the closed
+    form at that decimal in 40 digits; x, x' and x''."""
+    x0, v0 = start
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[[1]], x0=[x0], v0=[v0], parameters=["c"])
+    cs = np.array([2.0008, 2.0033, 2.0051, 2.0077, 2.0094, 2.01])
+    times = np.linspace(0, 130, 1301)
+    for order in (0, 1, 2):
+        result = sweep(scene, {"c": cs}, times, return_error=True, derivative=order)
+        with mpmath.workdps(DPS):
+            for b, c in enumerate(cs):
+                C = mpmath.mpf(repr(float(c)))
+                d = mpmath.sqrt(C * C / 4 - 1)
+                r1, r2 = -C / 2 + d, -C / 2 - d
+                A, B = (v0 - r2 * x0) / (r1 - r2), (r1 * x0 - v0) / (r1 - r2)
+                reference = np.array([float(A * r1**order * mpmath.exp(r1 * t) + B * r2**order
+                                            * mpmath.exp(r2 * t)) for t in map(mpmath.mpf, times)])
+                true = np.abs(result.values[b, 0] - reference)
+                assert np.all(true <= result.error[b, 0] + UNIT * np.abs(reference)), (c, order)

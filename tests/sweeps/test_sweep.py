@@ -190,19 +190,3 @@ def test_bad_input_is_a_scene_error(grounded):
         sweep(grounded, {"k1": 1.0, "k2": 1.0, "c": 1.0}, TIMES, outputs=["x9"])
     with pytest.raises(ValueError, match="times"):
         sweep(grounded, {"k1": 1.0, "k2": 1.0, "c": 1.0}, [-1.0])
-
-
-def test_a_dask_cluster_gives_the_local_result(grounded):
-    distributed = pytest.importorskip("distributed")
-    rng = np.random.default_rng(11)
-    values = {"k1": rng.uniform(0.5, 3, 3000), "k2": rng.uniform(0.5, 3, 3000),
-              "c": rng.uniform(0.01, 4, 3000)}
-    values["c"][5], values["k1"][5], values["k2"][5] = 2.0, 1.0, 1.0
-    local = sweep(grounded, values, TIMES, chunk=700)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        seen = []
-        remote = sweep(grounded, values, TIMES, chunk=700, client=client,
-                       progress=lambda done, total: seen.append(done))
-    assert np.array_equal(local, remote)
-    assert sorted(seen)[-1] == 3000

@@ -1,0 +1,87 @@
+"""Sweeps on a Dask LocalCluster (2 worker processes, 1 GiB each): the same numbers as the
+local run, values streamed to a .npy store written by the workers, progress once per
+chunk, and a worker killed in the middle of the run costs nothing but time."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import numpy as np
+import pytest
+
+import laplace_springs as ls
+
+distributed = pytest.importorskip("distributed")
+
+N = 12
+
+
+def _chain():
+    masses = {f"m{i}": 1 for i in range(N)}
+    springs = {"k0": ("wall", "m0", "k"), **{f"k{i}": (f"m{i-1}", f"m{i}", 1) for i in range(1, N)}}
+    return ls.Scene.from_components(masses=masses, springs=springs, dashpots={"c": ("wall", "m0", "c")},
+                                    x0=[1] + [0] * (N - 1), v0=[0] * N,
+                                    parameters={"k": "positive", "c": "nonnegative"})
+
+
+@pytest.fixture(scope="module")
+def client():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  memory_limit="1GiB", dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        yield client
+
+
+def test_killed_worker_mid_run_gives_the_complete_identical_result(client, tmp_path):
+    scene = _chain()
+    rng = np.random.default_rng(2)
+    P = 1200
+    values = {"k": rng.uniform(0.5, 2, P), "c": rng.uniform(0.01, 1, P)}
+    times = np.linspace(0, 20, 21)
+    local = ls.sweep(scene, values, times, chunk=60, return_error=True)
+    assert local.route == "batched"
+    seen: list[int] = []
+    killed: list[int] = []
+    pids = client.run(os.getpid)  # worker address -> process id (processes this test started)
+
+    def progress(done: int, total: int) -> None:
+        seen.append(done)
+        if not killed:  # after the first chunk: kill a worker while tasks still run on it
+            pid = pids[sorted(pids)[0]]
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    store = tmp_path / "x.npy"
+    remote = ls.sweep(scene, values, times, chunk=60, return_error=True, client=client,
+                      out=store, error_out=tmp_path / "e.npy", progress=progress)
+    assert killed and killed[0] not in client.run(os.getpid).values()  # that worker is gone
+    assert seen == sorted(seen) and seen[-1] == P and len(seen) == P // 60  # each chunk once
+    written = np.load(store)
+    assert np.array_equal(written, local.values)  # every row, none lost or duplicated
+    assert np.array_equal(np.load(tmp_path / "e.npy"), local.error)
+    assert np.array_equal(remote.set_error, local.set_error)
+    assert np.array_equal(remote.exact_sets, local.exact_sets)
+
+
+def test_cost_chunks_quantities_and_the_small_path(client):
+    """Chunks cut by estimated cost; quantities reduced on the workers; the compiled
+    two-mass route gives the local numbers."""
+    pair = ls.Scene.from_components(masses={"m1": 1, "m2": 1},
+                                    springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2")},
+                                    dashpots={"c": ("wall", "m1", "c")}, x0=[1, 0], v0=[0, 1],
+                                    parameters=["k1", "k2", "c"])
+    rng = np.random.default_rng(11)
+    values = {"k1": rng.uniform(0.5, 3, 3000), "k2": rng.uniform(0.5, 3, 3000),
+              "c": rng.uniform(0.01, 4, 3000)}
+    values["c"][5], values["k1"][5], values["k2"][5] = 2.0, 1.0, 1.0
+    times = np.linspace(0, 12, 40)
+    local = ls.sweep(pair, values, times, chunk=700)
+    remote = ls.sweep(pair, values, times, chunk=700, client=client)
+    assert np.array_equal(local, remote)
+    here = ls.sweep(pair, values, times, quantities={"peak": None, "settling_time": 0.05})
+    there = ls.sweep(pair, values, times, quantities={"peak": None, "settling_time": 0.05},
+                     client=client)
+    for name in ("peak", "settling_time"):
+        assert np.array_equal(here.quantities[name], there.quantities[name])
+    assert np.allclose(here.quantities["peak"], np.max(np.abs(local), axis=2), rtol=0, atol=0)
