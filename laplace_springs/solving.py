@@ -91,12 +91,13 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     available = set(BUILDERS)
     refusals: list[Refusal] = []
     probed: list[tuple[float, Solution, Plan]] = []  # engines whose own bound missed
+    solution: Solution | Refusal
     while True:
         chosen = plan(facts, DEFAULT_REQUEST, method=method, available=available)
         if not chosen.chain:
             if probed:  # every engine misses the target at the probe: the tightest serves
-                _, solution, chosen = min(probed, key=lambda entry: entry[0])
-                return _finish(solution, chosen, method, refusals)
+                _, best, chosen = min(probed, key=lambda entry: entry[0])
+                return _finish(best, chosen, method, refusals)
             raise _no_engine(chosen, method, refusals, facts)
         name = chosen.chain[0]
         solution = _build(name, scene, chosen, target)

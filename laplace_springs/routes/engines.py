@@ -61,7 +61,7 @@ def _exact_host(solution: Solution) -> ExactSolution | Refusal:
                 exact_motion(solution.scene), reason="exact terms for the plan",
                 target=solution.target)
         solution.__dict__["_exact_host"] = found
-    return found  # type: ignore[no-any-return]
+    return found
 
 
 def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
@@ -74,7 +74,7 @@ def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
                  else CertifiedSolution(solution.scene, poles, reason="certified poles for the plan",
                                         target=solution.target))
         solution.__dict__["_certified_host"] = found
-    return found  # type: ignore[no-any-return]
+    return found
 
 
 #: The float64 engines hosted by a solution class of their own:
@@ -156,6 +156,9 @@ def solution_for(name: str, scene: Any, *, reason: str, target: float) -> Soluti
     return _FLOAT_SOLUTIONS[name](scene, reason, target)
 
 
+def _digits_host(name: str) -> Callable[[Solution], Any]:
+    return lambda solution: host(solution, name)
+
+
 for _name in _HOSTS:
-    register_engine(_name, _builder(_name),
-                    (lambda s, _n=_name: host(s, _n)) if _name in _ESCALATIONS else None)
+    register_engine(_name, _builder(_name), _digits_host(_name) if _name in _ESCALATIONS else None)

@@ -14,7 +14,6 @@ from ..model.scene import Scene
 from ..numeric.certified import CertifiedPoles, certified_digits, certified_poles, certified_values
 from ..numeric.chebyshev import ChebyshevMotion
 from ..numeric.classical import ClassicalMotion
-from ..numeric.modal import ModalMotion
 from ..numeric.times import Times
 from ..policy import reference_scale
 from ..solution import Solution
@@ -26,20 +25,20 @@ __all__ = ["ModalSolution"]
 class ModalSolution(Solution):
     """Motion x(t) of a numeric scene from float64 modes.
 
-    Holds a :class:`~laplace_springs.numeric.modal.ModalMotion` (the conditioned
-    eigen-decomposition of the 2n x 2n first-order matrix) or, for undamped and
-    classically damped scenes, a :class:`~laplace_springs.numeric.classical.ClassicalMotion`
-    (real modes of the symmetric eigenproblem of size n, decomposed on first use), or for
-    Rayleigh damping a :class:`~laplace_springs.numeric.chebyshev.ChebyshevMotion` (Chebyshev
-    expansion in M⁻¹K; ``modes`` and ``x`` are built on request up to
-    :attr:`~laplace_springs.limits.Limits.classical_max_coordinates`). Times whose float64 bound
-    misses the target go to the certified route where the scene allows it (rational
-    entries, 2n ≤ :attr:`~laplace_springs.limits.Limits.certified_max_order`), else to the exact
-    route's mpmath evaluation (up to
-    :attr:`~laplace_springs.limits.Limits.exact_fallback_max_coordinates` coordinates).
+    Hosts a float64 engine's motion: a :class:`~laplace_springs.numeric.modal.ModalMotion`
+    (the conditioned eigen-decomposition of the 2n x 2n first-order matrix), a
+    :class:`~laplace_springs.numeric.classical.ClassicalMotion` (real modes of the symmetric
+    eigenproblem of size n, decomposed on first use), a
+    :class:`~laplace_springs.numeric.chebyshev.ChebyshevMotion` (Chebyshev expansion in M⁻¹K;
+    ``modes`` and ``x`` built on request up to
+    :attr:`~laplace_springs.limits.Limits.classical_max_coordinates`), or a motion of the
+    planner's engine interface (``evaluate(times, order)``, ``poles()``, ``engine``: the
+    refined and tiny engines). :attr:`method` names the engine. Times whose float64 bound
+    misses the target are recomputed by the next engines of the plan
+    (:mod:`laplace_springs.planning`).
     """
 
-    def __init__(self, scene: Scene, motion: ModalMotion | ClassicalMotion | ChebyshevMotion, *, reason: str,
+    def __init__(self, scene: Scene, motion: Any, *, reason: str,
                  target: float | None = None, certified: CertifiedPoles | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.motion = motion
