@@ -96,20 +96,8 @@ class Limits:
     #: Largest number of Taylor steps one krylov evaluation takes (its cost grows linearly
     #: with the last time: about 2·t·ν steps).
     krylov_max_steps: int = 200_000
-    #: Largest H·ν of a krylov step. Longer steps take fewer products per unit of time
-    #: (m/θ: 13 at θ = 2, 8.5 at 4) but values inside a step are float64 sums of terms
-    #: that cancel by up to e^θ: at 4 their rounding stays near 4e-15 of the scale (chains
-    #: and meshes of 1,000 to 10,000 masses, measured), at 6 it would reach 3e-14.
-    krylov_step_norm: float = 4.0
-    #: Largest rounding and truncation one krylov step may add, relative to the scene's
-    #: energy N(z0): terms are formed to about 2^-70 (double-double) until a float64
-    #: product's rounding, carried to the end of the step, falls below this. At 2^-60 a
-    #: 1,000-mass chain's bound is about 2e-15 of the scale at t = 50 and grows like the
-    #: number of steps (the previous all-double-double march: 4e-17 per step).
-    krylov_step_error: float = 2.0**-60
-    #: Most float64 numbers the krylov engine keeps as checkpoints of its march (each step's
-    #: starting state, 4n numbers): later calls restart from the nearest one (256 MB).
-    krylov_checkpoint_floats: int = 32_000_000
+    #: Largest H·ν of a krylov step: the float64 output sums lose about e^{Hν} units.
+    krylov_step_norm: float = 2.0
     #: Largest scene (coordinates) the exact route takes. The fraction-free adjugate of
     #: λ²M + λC + K costs about n⁴ (damped chains: 12 coordinates 0.7 s, 20 3 s, 30 14 s).
     max_exact_coordinates: int = 40
@@ -271,14 +259,11 @@ class Limits:
     #: Most parameter sets a worked-example page precomputes for its sliders (each set is
     #: n x 120 values, about 1.5 kB of JSON per coordinate in the page).
     page_max_grid_sets: int = 400
-    #: Accuracy of the curves the explorer and the pages' sliders draw, relative to
-    #: max(‖x(t)‖∞, S₀): 1e-8 is far below a pixel (1e-3). At the default target the sweep kernel's estimate
+    #: Accuracy of the explorer's curves, relative to max(‖x(t)‖∞, S₀): they are drawn, and
+    #: 1e-8 is far below a pixel (1e-3). At the default target the sweep kernel's estimate
     #: near a drive within its cluster gap of a lightly damped mode (about 1e-10, measured on
     #: Example 5 with ω = 18) sends the set to the exact solver: 0.4 s instead of 16 ms a move.
     explore_target: float = 1e-8
-    #: Most samples of a page's plot: a stiff scene (ω = 1414 on Example 1 with k = 10⁶) asked
-    #: for 200,000 and took 18 s to draw; beyond this the page plots a shorter span.
-    page_max_plot_samples: int = 20_000
 
 
 #: The limits the package ships with.
