@@ -71,14 +71,17 @@ __all__ = ["TinyMotion", "TinyData", "tiny_refusal", "tiny_cost", "tiny_motion",
 
 #: Relative error a bound may neglect (second-order terms): bounds are multiplied by this.
 _SAFETY = 1.02
-#: Cost model (seconds), measured on the development machine (2 cores, OpenBLAS, one
-#: thread) with 100 times: reading the scene 15 µs; one coordinate 10 µs to build and
-#: 0.25 µs per time; two to four coordinates 100–150 µs to build (eig, inverse, the
-#: residual in extended precision; an SVD per 2 x 2 block) and 0.1 µs per time and
-#: coordinate. Used only to rank engines.
+#: Cost model (seconds): the fastest of 1,500 first calls on the development machine (2
+#: cores, OpenBLAS with one thread, both cores busy with other work): reading the scene
+#: 12-27 µs; one coordinate 9 µs to build and 30 ns per time (100 times 35 µs, 10,000
+#: times 0.35 ms); two to four coordinates 40 µs per coordinate to build (eig, inverse,
+#: the residual in extended precision; the seed's pair 88 µs, an SVD more per 2 x 2
+#: block) and 20·n² ns per time (pair 51 ns, four coordinates 580 ns at 10,000 times).
+#: Used only to rank engines.
 _COST_READ = 1.5e-5
-_COST_SCALAR = (1.0e-5, 2.5e-7)
-_COST_BLOCKS = (1.3e-4, 1.0e-7)
+_COST_SCALAR = (1.0e-5, 3.0e-8)
+_COST_BLOCK_BUILD = 4.0e-5
+_COST_BLOCK_TIME = 2.0e-8
 
 Entries = dict[tuple[int, int], Any]
 
@@ -246,8 +249,9 @@ def tiny_cost(scene: Scene, *, t_max: float = 100.0, count: int = 100, order: in
     >>> tiny_cost(scene, count=100) < 1e-4
     True
     """
-    build, per_time = _COST_SCALAR if scene.n == 1 else _COST_BLOCKS
-    return _COST_READ + build + count * per_time * max(scene.n, 1)
+    n = scene.n
+    build, per_time = _COST_SCALAR if n == 1 else (_COST_BLOCK_BUILD * n, _COST_BLOCK_TIME * n * n)
+    return _COST_READ + build + count * per_time
 
 
 def tiny_motion(scene: Scene) -> TinyMotion:
