@@ -26,15 +26,16 @@ from ..model.errors import SceneError
 from ..model.numbers import to_exact
 from ..model.scene import Scene
 from ..model.supports import support_columns
-from ..model.symbols import lam
+from ..model.symbols import OMEGA, lam
 from ..model.units import frequencies_to_rad_per_second
 from ..numeric.first_order import float_matrix
 
 __all__ = ["omega", "frequency_response", "steady_state_amplitude", "transmissibility",
            "transmissibility_function"]
 
-#: The driving frequency ω of exact frequency responses (rad per unit time).
-omega = sp.Symbol("omega", positive=True)
+#: The driving frequency ω of exact frequency responses (rad per unit time); no parameter
+#: may have its name (model/symbols.py, RESERVED_NAMES).
+omega = OMEGA
 
 
 @overload

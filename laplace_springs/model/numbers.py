@@ -37,7 +37,7 @@ import sympy
 
 from ..limits import limits
 from .errors import SceneError
-from .symbols import TIME
+from .symbols import TIME, reserved_name_message
 
 __all__ = [
     "ALLOWED_FUNCTIONS",
@@ -743,9 +743,11 @@ def _parameter_name(name: object) -> str:
     if not isinstance(name, str) or _NAME.fullmatch(name) is None:
         raise SceneError(f"parameter names must be identifiers (a letter, then letters, digits "
                          f"or '_'), got {shown(name)}")
-    reserved = ("t", *ALLOWED_FUNCTIONS, *CONSTANTS)
-    if name in reserved or name.lower() in NOT_FINITE_REAL:
-        raise SceneError(f"{name!r} cannot be a parameter name: it means time, a function, a "
+    reserved = reserved_name_message(name)  # t, s, lambda, lam, omega: the toolkit's symbols
+    if reserved is not None:
+        raise SceneError(reserved)
+    if name in ALLOWED_FUNCTIONS or name in CONSTANTS or name.lower() in NOT_FINITE_REAL:
+        raise SceneError(f"{name!r} cannot be a parameter name: it means a function, a "
                          f"constant or a number that is not finite and real")
     return name
 
@@ -786,8 +788,10 @@ def declare_parameters(parameters: object = None, *objects: object) -> dict[str,
     Raises
     ------
     SceneError
-        For a name that is not an identifier or is reserved (``t``, a function, a
-        constant, ``nan``, ``I`` ...), an unknown declaration, or two different
+        For a name that is not an identifier or is reserved (the toolkit's symbols ``t``,
+        ``s``, ``lambda``, ``lam``, ``omega`` of
+        :data:`~laplace_springs.model.symbols.RESERVED_NAMES`, whether named or given as a
+        Symbol; a function, a constant, ``nan``, ``I`` ...), an unknown declaration, or two different
         Symbols of the same name (say ``Symbol("k")`` and ``Symbol("k", positive=True)``).
 
     Examples
@@ -801,7 +805,11 @@ def declare_parameters(parameters: object = None, *objects: object) -> dict[str,
     >>> declare_parameters(["t"])
     Traceback (most recent call last):
     ...
-    laplace_springs.model.errors.SceneError: 't' cannot be a parameter name: it means time, a function, a constant or a number that is not finite and real
+    laplace_springs.model.errors.SceneError: 't' cannot be a parameter name: it is the time (ls.t); rename the parameter, e.g. 't_0'
+    >>> declare_parameters(["omega"])
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: 'omega' cannot be a parameter name: it is the driving frequency of ls.frequency_response (ls.omega); rename the parameter, e.g. 'omega_0'
     """
     declared: dict[str, sympy.Symbol] = {}
     for symbol in _declarations(parameters):
@@ -829,6 +837,9 @@ def _declarations(parameters: object) -> Iterator[sympy.Symbol]:
 
 
 def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> None:
+    reserved = reserved_name_message(symbol.name)
+    if reserved is not None:  # a Symbol given in the data, say ls.omega or ls.s
+        raise SceneError(f"the Symbol {symbol.name!r} in the data: {reserved}")
     known = declared.setdefault(symbol.name, symbol)
     if known != symbol:
         raise SceneError(f"two different Symbols are named {symbol.name!r} (assumptions "

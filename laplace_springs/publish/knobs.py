@@ -32,7 +32,7 @@ from ..model.components import Component
 from ..model.errors import SceneError
 from ..model.numbers import shown
 from ..model.scene import Scene
-from ..model.symbols import TIME
+from ..model.symbols import RESERVED_NAMES, TIME
 from ..output.chain import chain_of, latex_symbol, physical_matrices
 
 __all__ = ["Knob", "knobbed_scene", "knob_values", "KNOB_KINDS"]
@@ -48,7 +48,8 @@ class Knob:
     Attributes
     ----------
     name : str
-        The parameter's name in the knobbed scene (``k1``, ``x0_1``, ``F``, ``omega``).
+        The parameter's name in the knobbed scene (``k1``, ``x0_1``, ``F``, ``w``: the
+        drive's frequency ω, not named ``omega``, which is ``ls.omega``).
     label : str
         LaTeX for the slider (``k_{1}``, ``x_{1}(0)``, ``F``, ``\\omega``).
     kind : str
@@ -282,7 +283,7 @@ def _safe_name(label: str, used: set[str]) -> str:
     if not base[0].isalpha():
         base = "p_" + base
     name, k = base, 2
-    while name in used or name in ("t", "F", "omega") or name.startswith(("x0_", "v0_")):
+    while name in used or name in ("F", "w") or name in RESERVED_NAMES or name.startswith(("x0_", "v0_")):
         name, k = f"{base}_{k}", k + 1
     used.add(name)
     return name
@@ -297,19 +298,19 @@ def _forcing_knobs(scene: Scene, numeric: Scene, K: Any, omega_1: float, scale_x
     harmonic = _harmonic(numeric)
     if scene.forcing is not None and harmonic is None:
         return own  # not one harmonic force: the forces stay as they are
-    declared.update(F="real", omega="nonnegative")
+    declared.update(F="real", w="nonnegative")
     stiffness = abs(float(K[0, 0])) or 1.0
     if harmonic is None:  # a free scene: a drive F cos(ωt) on the first coordinate
         low, high, _ = _range("amplitude", 0.0, stiffness * (scale_x if scale_x > 1e-300 else 1.0))
         out.append(Knob("F", "F", "amplitude", 0.0, low, high))
-        out.append(Knob("omega", "\\omega", "frequency", 0.6 * omega_1, 0.0, 3 * omega_1))
-        return ["F*cos(omega*t)"] + ["0"] * (scene.n - 1)
+        out.append(Knob("w", "\\omega", "frequency", 0.6 * omega_1, 0.0, 3 * omega_1))
+        return ["F*cos(w*t)"] + ["0"] * (scene.n - 1)
     amplitude, omega, function = harmonic
     low, high, _ = _range("amplitude", amplitude, stiffness * scale_x)
     out.append(Knob("F", "F", "amplitude", amplitude, low, high))
     top = 3 * max(omega_1, omega)
-    out.append(Knob("omega", "\\omega", "frequency", omega, 0.0, top))
-    driven = sp.Symbol("omega") * TIME
+    out.append(Knob("w", "\\omega", "frequency", omega, 0.0, top))
+    driven = sp.Symbol("w") * TIME
     assert numeric.forcing is not None  # harmonic: every force is a multiple of cos or sin
     forces = []
     for entry in numeric.forcing:

@@ -55,8 +55,8 @@ def test_a_move_shows_the_solution_at_the_new_values():
 
 def test_the_harmonic_drive_of_a_free_scene():
     explorer = explore(ls.load_scene("wall-pair"), knobs=[])
-    assert [k.name for k in explorer.knobs] == ["x0_1", "x0_2", "v0_1", "v0_2", "F", "omega"]
-    explorer.set(F=0.1, omega=0.4)
+    assert [k.name for k in explorer.knobs] == ["x0_1", "x0_2", "v0_1", "v0_2", "F", "w"]
+    explorer.set(F=0.1, w=0.4)
     base = ls.load_scene("wall-pair")
     driven = ls.Scene.from_matrices(M=base.M, C=base.C, K=base.K, x0=base.x0, v0=base.v0,
                                     forcing=[sp.Rational(1, 10) * sp.cos(sp.Rational(2, 5) * ls.t), 0])
