@@ -207,6 +207,10 @@ class Limits:
     #: task's overhead (~2 ms on a LocalCluster) is below 1 %, short enough that a lost
     #: worker costs little and progress moves (chunks are cut by estimated cost, not count).
     sweep_chunk_seconds: float = 1.0
+    #: Most parameter sets one sweep (or ``sample_parameters``) takes: 10⁸ sets of three
+    #: parameters are 2.4 GB of float64 before any motion is computed; more are refused
+    #: with the way out (sweep in parts, streaming to a store).
+    sweep_max_sets: int = 100_000_000
 
     # -- input ------------------------------------------------------------------------
     #: Most coordinates (masses) a scene may have (a 100,000-mass chain loads in ~30 s).

@@ -49,7 +49,7 @@ import sympy as sp
 
 from ..kernels.dd import UNIT_DD, U, dd_add, dd_mul_float, phase, two_prod, two_sum
 from ..model.scene import Scene
-from .complex_dd import CDD, RowGroups, cdd, cdd_add, cdd_float, cdd_mul, row_groups
+from .complex_dd import CDD, RowGroups, cdd, cdd_add, cdd_float, cdd_mul_float, cdd_product, row_groups
 from .entries import DD, SceneEntries
 
 __all__ = ["BatchedScene", "BatchBlock", "batched_refusal", "batched_scene", "evaluate_batch"]
@@ -248,9 +248,17 @@ def _products(structure: BatchedScene, d: _Data, V: np.ndarray) -> _Products:
     return _Products(KV, CV, MV)  # type: ignore[arg-type]
 
 
-def _pencil(products: _Products, lam: CDD) -> CDD:
-    """(λ²M + λC + K)V = λ(λ·MV + CV) + KV in double-double."""
-    return cdd_add(cdd_mul(lam, cdd_add(cdd_mul(lam, products.MV), products.CV)), products.KV)
+def _pencil(products: _Products, lam: np.ndarray, dlam: np.ndarray | None = None) -> CDD:
+    """(λ'²M + λ'C + K)V = λ'(λ'·MV + CV) + KV with λ' = λ + dλ (λ, dλ complex floats):
+    the products with λ exact (double-double), those with the small dλ in float64 (their
+    rounding, below 3u·|dλ|·(2|λ'||M||V| + |C||V|), is counted by the caller)."""
+    inner = cdd_add(cdd_mul_float(products.MV, lam), products.CV)
+    if dlam is not None:
+        inner = cdd_add(inner, cdd(dlam * cdd_float(products.MV)))
+    outer = cdd_add(cdd_mul_float(inner, lam), products.KV)
+    if dlam is not None:
+        outer = cdd_add(outer, cdd(dlam * cdd_float(inner)))
+    return outer
 
 
 def _pencil_floats(structure: BatchedScene, d: _Data, lam: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -285,17 +293,29 @@ def _sum_modes(part: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndar
     return hi[..., 0], lo[..., 0]
 
 
-def _mismatch(d: _Data, v: CDD, lam: CDD, a: CDD, weight: np.ndarray) -> tuple[DD, DD]:
-    """ŷ(0) − z0 in double-double: x part and v part (P, n) with error bounds."""
-    terms = cdd_mul(v, a)
-    velocity = cdd_mul(lam, terms)
+def _mismatch(d: _Data, V: np.ndarray, v_lo: np.ndarray, lam: np.ndarray, dlam: np.ndarray,
+              a: np.ndarray, a_lo: np.ndarray, weight: np.ndarray) -> tuple[DD, DD]:
+    """ŷ(0) − z0 = (Re Σ_j w_j v'_j a'_j − x0, Re Σ_j w_j λ'_j v'_j a'_j − v0) in
+    double-double, with error bounds (P, n). ``lam``, ``dlam``, ``a``, ``a_lo`` and
+    ``weight`` have shape (P, 1, 2n); the products of the leading parts are exact, the
+    small cross terms in float64."""
+    wa, wa_lo = weight * a, weight * a_lo
+    exact = cdd_product(V, wa)  # V·(w a), exactly
+    cross = V * wa_lo + v_lo * (wa + wa_lo)
+    velocity = cdd_mul_float(exact, lam)
+    cross_v = lam * cross + dlam * (cdd_float(exact) + cross)
+    size = np.abs(V) * np.abs(wa)
+    small = np.abs(V) * np.abs(wa_lo) + np.abs(v_lo) * (np.abs(wa) + np.abs(wa_lo))
+    modulus = np.abs(lam) + np.abs(dlam)
+    levels = np.log2(V.shape[-1] + 2) + 4
     out = []
-    for term, start in ((terms, d.x0), (velocity, d.v0)):
-        hi, lo = _sum_modes((term[0] * weight, term[1] * weight))
-        size = np.sum(np.hypot(term[0], term[2]) * weight, axis=-1) + np.abs(start[0])
+    for term, extra, start, scale, tiny in (
+            (exact, cross, d.x0, size, small),
+            (velocity, cross_v, d.v0, np.abs(lam) * size, modulus * small + np.abs(dlam) * size)):
+        hi, lo = _sum_modes((term[0], term[1] + extra.real))
         hi, lo = dd_add(hi, lo, -start[0], -start[1])
-        err = 16 * (np.log2(weight.shape[-1] + 2) + 4) * UNIT_DD * size + start[2]
-        out.append((hi, lo, err))
+        err = 16 * levels * UNIT_DD * np.sum(scale, axis=-1) + 8 * levels * U * np.sum(tiny, axis=-1)
+        out.append((hi, lo, err + start[2] + UNIT_DD * np.abs(start[0])))
     return out[0], out[1]
 
 
@@ -303,7 +323,7 @@ def _mismatch(d: _Data, v: CDD, lam: CDD, a: CDD, weight: np.ndarray) -> tuple[D
 class _Modes:
     lam: np.ndarray        # (P, 2n) complex, refined (rounded)
     lam_lo: np.ndarray     # its low part
-    coeff: CDD             # v'·a' (P, n, 2n) as complex double-double
+    coeff: np.ndarray      # v'·a' (P, n, 2n), rounded (error ≤ 3u of |v'||a'|)
     weight: np.ndarray     # (P, 2n)
     energy: np.ndarray     # (P, 2n): w_j |a'_j| ‖r'_j‖₂ (bound)
     start: np.ndarray      # (P, 2): ‖e(0)‖₂, ‖e'(0)‖₂
@@ -335,7 +355,7 @@ def _modes(structure: BatchedScene, d: _Data, served: np.ndarray) -> _Modes:
     served &= invertible
     # one Newton step on every mode
     products = _products(structure, d, V)
-    r = cdd_float(_pencil(products, cdd(lam[:, None, :])))
+    r = cdd_float(_pencil(products, lam[:, None, :]))
     G = -np.matmul(W[:, :, n:], r / m[:, :, None])
     gaps = lam[:, None, :] - lam[:, :, None]
     off = ~np.eye(2 * n, dtype=bool)[None]
@@ -346,38 +366,40 @@ def _modes(structure: BatchedScene, d: _Data, served: np.ndarray) -> _Modes:
     served &= np.all(np.isfinite(v_lo.reshape(P, -1)), axis=1) & np.all(np.isfinite(dlam), axis=1)
     v_lo = np.where(served[:, None, None], v_lo, 0.0)
     dlam = np.where(served[:, None], dlam, 0.0)
-    v = cdd(V, v_lo)
-    lam_r = cdd(lam[:, None, :], dlam[:, None, :])
     weight = np.where(lam.imag > 0, 2.0, np.where(lam.imag == 0, 1.0, 0.0))[:, None, :]
+    lam3, dlam3 = lam[:, None, :], dlam[:, None, :]
     # coefficients, refined once
     z0 = np.concatenate([d.x0[0], d.v0[0]], axis=1)
     a = np.matmul(W, z0[:, :, None].astype(complex))[:, :, 0]
-    ex, ev = _mismatch(d, v, lam_r, cdd(a[:, None, :]), weight)
+    zero = np.zeros_like(a[:, None, :])
+    ex, ev = _mismatch(d, V, v_lo, lam3, dlam3, a[:, None, :], zero, weight)
     d0 = np.concatenate([ex[0] + ex[1], ev[0] + ev[1]], axis=1)
     a_lo = -np.matmul(W, d0[:, :, None].astype(complex))[:, :, 0]
     a_lo = np.where(np.isfinite(a_lo), a_lo, 0.0)
-    a_r = cdd(a[:, None, :], a_lo[:, None, :])
-    ex, ev = _mismatch(d, v, lam_r, a_r, weight)
+    ex, ev = _mismatch(d, V, v_lo, lam3, dlam3, a[:, None, :], a_lo[:, None, :], weight)
     start = np.stack([np.linalg.norm(np.abs(ex[0] + ex[1]) + ex[2], axis=1),
                       np.linalg.norm(np.abs(ev[0] + ev[1]) + ev[2], axis=1)], axis=1) * (1 + 1e-10)
     # the refined residuals (λ'²M + λ'C + K)(V + δV): the V part in double-double from the
     # products above, the δV part (of the size u·|V|) in float64; and their bound
-    main = _pencil(products, lam_r)
-    rest = _pencil_floats(structure, d, (lam + dlam)[:, None, :], v_lo)
+    main = _pencil(products, lam3, dlam3)
+    rest = _pencil_floats(structure, d, lam3 + dlam3, v_lo)
     computed = np.abs(cdd_float(main) + rest) * (1 + 4 * U)
     modulus_lam = (np.abs(lam) + np.abs(dlam))[:, None, :] * (1 + 4 * U)
     size_V = _pencil_size(structure, d, modulus_lam, np.abs(V))
     size_lo = _pencil_size(structure, d, modulus_lam, np.abs(v_lo))
     entry = _pencil_size(structure, d, modulus_lam, np.abs(V) + np.abs(v_lo), errors=True)
+    damping = structure.C.magnitude(np.abs(d.C[0]) * (1 + 1e-15), np.abs(V))
+    small = 3 * U * np.abs(dlam3) * (2 * modulus_lam * d.m[0][:, :, None] * np.abs(V) + damping)
     bound = computed + 8 * (structure.width + 8) * UNIT_DD * size_V \
-        + (2 * structure.width + 16) * U * size_lo + entry
+        + (2 * structure.width + 16) * U * size_lo + entry + small
     column = np.sqrt(np.sum(bound**2, axis=1)) * (1 + 1e-10)  # (P, 2n)
     modulus_v = (np.abs(V) + np.abs(v_lo)) * (1 + 4 * U)
     modulus_a = (np.abs(a) + np.abs(a_lo)) * (1 + 4 * U)
     energy = weight[:, 0, :] * modulus_a * column
     norms = np.stack([np.min(d.m[0] - d.m[2], axis=1) * (1 - 1e-15), np.max(d.m[0] + d.m[2], axis=1),
                       _row_norm(structure.K, d.K), _two_norm(structure.C, d.C)], axis=1)
-    coeff = cdd_mul(v, a_r)
+    aa = a[:, None, :]
+    coeff = cdd_float(cdd_product(V, aa)) + (V * a_lo[:, None, :] + v_lo * (aa + a_lo[:, None, :]))
     size = modulus_v * modulus_a[:, None, :]
     re_hi, re_lo = two_sum(lam.real, dlam.real)
     im_hi, im_lo = two_sum(lam.imag, dlam.imag)
@@ -525,17 +547,13 @@ def evaluate_batch(structure: BatchedScene, params: list[DD], times: np.ndarray,
     served = _conditions(structure, d)
     modes = _modes(structure, d, served.copy())
     served = modes.served
-    coeff = tuple(part[:, outputs, :] for part in modes.coeff)
+    c = modes.coeff[:, outputs, :]
     size = modes.size[:, outputs, :]
     lam_power = np.ones(modes.lam.shape)
+    for _ in range(order):  # c·λ'^order, each product rounded (counted in _mode_sums)
+        c = c * modes.lam[:, None, :]
     if order:
-        power = cdd(modes.lam[:, None, :], modes.lam_lo[:, None, :])
-        scaled: CDD = coeff  # type: ignore[assignment]
-        for _ in range(order):
-            scaled = cdd_mul(power, scaled)
-        coeff = scaled
         lam_power = (np.abs(modes.lam) + np.abs(modes.lam_lo)) ** order * (1 + 8 * U)
-    c = cdd_float(coeff)  # type: ignore[arg-type]
     magnitude = size * lam_power[:, None, :]
     with np.errstate(over="ignore", invalid="ignore"):
         values, rounding = _mode_sums(c, magnitude, modes, times, order)

@@ -13,9 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.dd import dd_add, dd_mul, fast_two_sum, split, two_sum
+from ..kernels.dd import dd_add, dd_mul, dd_mul_float, fast_two_sum, split, two_prod, two_sum
 
-__all__ = ["CDD", "cdd", "cdd_add", "cdd_mul", "cdd_scale", "cdd_float", "RowGroups",
+__all__ = ["CDD", "cdd", "cdd_add", "cdd_mul", "cdd_mul_float", "cdd_product", "cdd_scale",
+           "cdd_float", "RowGroups",
            "row_groups"]
 
 #: (re_hi, re_lo, im_hi, im_lo)
@@ -50,6 +51,28 @@ def cdd_mul(a: CDD, b: CDD) -> CDD:
     rh, rl = dd_add(p1[0], p1[1], -p2[0], -p2[1])
     ih, il = dd_add(p3[0], p3[1], p4[0], p4[1])
     return rh, rl, ih, il
+
+
+def cdd_mul_float(a: CDD, b: np.ndarray) -> CDD:
+    """a·b for a complex float64 b (each product exact to 2u² relative)."""
+    p1 = dd_mul_float(a[0], a[1], b.real)
+    p2 = dd_mul_float(a[2], a[3], b.imag)
+    p3 = dd_mul_float(a[0], a[1], b.imag)
+    p4 = dd_mul_float(a[2], a[3], b.real)
+    rh, rl = dd_add(p1[0], p1[1], -p2[0], -p2[1])
+    ih, il = dd_add(p3[0], p3[1], p4[0], p4[1])
+    return rh, rl, ih, il
+
+
+def cdd_product(a: np.ndarray, b: np.ndarray) -> CDD:
+    """a·b for complex float64 a, b, exactly up to the final two-sums (error ≤ u²|a||b|)."""
+    p1, e1 = two_prod(a.real, b.real)
+    p2, e2 = two_prod(a.imag, b.imag)
+    p3, e3 = two_prod(a.real, b.imag)
+    p4, e4 = two_prod(a.imag, b.real)
+    rh, r = two_sum(p1, -p2)
+    ih, i = two_sum(p3, p4)
+    return (*fast_two_sum(rh, r + (e1 - e2)), *fast_two_sum(ih, i + (e3 + e4)))
 
 
 def cdd_scale(a: CDD, hi: np.ndarray, lo: np.ndarray) -> CDD:

@@ -1,9 +1,20 @@
-"""Quantities users sweep for: peak amplitude, settling time, steady-state amplitude under
-a harmonic force, and the force the springs and dashpots pass to the supports."""
+"""Quantities users sweep for: peak amplitude, RMS, settling time, steady-state amplitude
+under a harmonic force, transmissibility, modal quantities per set, and the force the
+springs and dashpots pass to the supports.
+
+The amplitude functions take a sweep's values; for sweeps too large to hold, the same
+quantities are reduced chunk by chunk with ``sweep(..., quantities=[...])``
+(:mod:`laplace_springs.sweeps.reduce`). The frequency-domain ones
+(:func:`steady_state_amplitudes`, :func:`sweep_transmissibility`, :func:`modal_quantities`)
+work on any size: batched linear solves and eigenvalue problems of the sets' matrices in
+float64 (no error bound: their accuracy is that of a backward-stable solve, about
+u·cond of each set's dynamic stiffness).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -13,12 +24,15 @@ from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
 from ..model.numbers import shown, to_exact
 from ..model.scene import Scene
-from ..model.supports import is_support
+from ..model.supports import is_support, support_columns
 from ..model.symbols import lam
-from .compile import compile_scene, parameter_rows
-from .run import sweep
+from .compile import compile_refusal, compile_scene, parameter_rows
+from .parameters import parameter_sets
+from .run import plan_sweep, sweep
+from .validate import validate_sets
 
-__all__ = ["peak_amplitude", "settling_time", "steady_state_amplitudes", "support_force",
+__all__ = ["peak_amplitude", "rms_amplitude", "settling_time", "steady_state_amplitudes",
+           "sweep_transmissibility", "modal_quantities", "ModalQuantities", "support_force",
            "peak_support_force"]
 
 
@@ -38,6 +52,19 @@ def peak_amplitude(values: Any) -> np.ndarray:
     [[2.0]]
     """
     return np.max(np.abs(_values(values)), axis=-1)
+
+
+def rms_amplitude(values: Any) -> np.ndarray:
+    """√(mean over the times of x_i(t)²): shape (P, n) from a sweep's (P, n, T) values (the
+    discrete RMS over the times given; uniform times give the time average).
+
+    Examples
+    --------
+    >>> rms_amplitude(np.array([[[3.0, -4.0, 0.0, 0.0]]])).tolist()
+    [[2.5]]
+    """
+    array = _values(values)
+    return np.sqrt(np.mean(array**2, axis=-1))
 
 
 def settling_time(values: Any, times: Any, tolerance: float) -> np.ndarray:
@@ -70,7 +97,9 @@ def steady_state_amplitudes(scene: Scene, values: Mapping[Any, Any], force: Sequ
 
     H(iω) = adj(iω)/Δ(iω) with the adjugate and Δ compiled once as polynomials in λ
     whose coefficients are functions of the parameters (the exact
-    :func:`laplace_springs.steady_state_amplitude`, vectorised).
+    :func:`laplace_springs.steady_state_amplitude`, vectorised); beyond
+    :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates` coordinates, batched
+    solves of (K − ω²M + iωC) X = F per set.
 
     Parameters
     ----------
@@ -100,13 +129,20 @@ def steady_state_amplitudes(scene: Scene, values: Mapping[Any, Any], force: Sequ
     >>> np.allclose(a[:, 0], [1 / 0.2, 1 / 0.4], rtol=1e-14)
     True
     """
-    compiled = compile_scene(scene.with_forcing(None))
-    rows = parameter_rows(compiled, values)
-    P = len(rows)
     F = [to_exact(f, f"force[{j}]") for j, f in enumerate(force)] \
         if isinstance(force, Sequence) and not isinstance(force, str) else None
     if F is None or len(F) != scene.n:
         raise SceneError(f"steady_state_amplitudes: force must have {scene.n} entries, got {shown(force)}")
+    if compile_refusal(scene.with_forcing(None)) is not None:  # beyond the symbolic limit
+        sets, M, C, K = _matrices(scene, values)
+        w, single = _frequencies(omegas, len(sets), "steady_state_amplitudes")
+        drive = np.broadcast_to(np.array([float(f) for f in F], dtype=complex)[None, :, None],
+                                (len(sets), scene.n, w.shape[1]))
+        amplitude = np.abs(_responses(M, C, K, drive, w))
+        return amplitude[..., 0] if single else amplitude
+    compiled = compile_scene(scene.with_forcing(None))
+    rows = parameter_rows(compiled, values)
+    P = len(rows)
     R = resolvent(scene.with_forcing(None))
     columns = [sp.Poly(sp.expand(sum((R.adjugate[i, j] * F[j] for j in range(scene.n)), sp.S.Zero)),
                        lam) for i in range(scene.n)]
@@ -200,3 +236,173 @@ def peak_support_force(scene: Scene, values: Mapping[Any, Any], times: Any, **op
     [4.0, 9.0]
     """
     return np.max(np.abs(support_force(scene, values, times, **options)), axis=-1)
+
+
+# ----------------------------------------------------------------------------- any size
+
+
+def _matrices(scene: Scene, values: Mapping[Any, Any]) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray]:
+    """The parameter sets (checked as ``Scene.subs`` checks them) and each set's M, C, K
+    in float64, (P, n, n)."""
+    plan = plan_sweep(scene)
+    sets = parameter_sets(plan.names, plan.symbols, values)
+    validate_sets(scene, plan.entries, sets)
+    n, P = scene.n, len(sets)
+    out = []
+    for name in ("M", "C", "K"):
+        dense = np.zeros((P, n, n))
+        floats = plan.entries.floats(name, sets.rows)
+        for k, (i, j) in enumerate(plan.entries.pattern[name]):
+            dense[:, i, j] = floats[:, k]
+        out.append(dense)
+    return sets, out[0], out[1], out[2]
+
+
+def _frequencies(omegas: Any, P: int, name: str) -> tuple[np.ndarray, bool]:
+    w = np.asarray(omegas, dtype=float)
+    single = w.ndim == 0
+    w = np.broadcast_to(np.atleast_1d(w), (P, np.atleast_1d(w).shape[-1])) if w.ndim <= 1 else w
+    if w.ndim != 2 or w.shape[0] != P or not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise SceneError(f"{name}: omegas must be finite and nonnegative: a number, a 1-D array "
+                         f"or one row per set; got shape {np.shape(omegas)}")
+    return w, single
+
+
+def _responses(M: np.ndarray, C: np.ndarray, K: np.ndarray, drive: np.ndarray,
+               omegas: np.ndarray) -> np.ndarray:
+    """(K − ω²M + iωC)⁻¹·drive(ω) for every set and frequency: (P, n, W) complex.
+
+    ``drive`` (P, n, W) complex. Solved in blocks of sets (batched LAPACK)."""
+    P, n, _ = M.shape
+    W = omegas.shape[1]
+    out = np.empty((P, n, W), dtype=complex)
+    block = max(1, int(2**24 // max(16 * n * n, 1)))
+    for start in range(0, P, block):
+        rows = slice(start, start + block)
+        for k in range(W):
+            w = omegas[rows, k][:, None, None]
+            A = K[rows] - w * w * M[rows] + 1j * w * C[rows]
+            with np.errstate(all="ignore"):
+                out[rows, :, k] = np.linalg.solve(A, drive[rows, :, k][:, :, None])[:, :, 0]
+    return out
+
+
+def sweep_transmissibility(scene: Scene, values: Mapping[Any, Any], omegas: Any,
+                           support: str | None = None, outputs: Sequence[Any] | None = None
+                           ) -> np.ndarray:
+    """|X_i(iω)/U(iω)| per parameter set: motion amplitude per unit amplitude of a
+    support's harmonic motion, (K − ω²M + iωC)⁻¹(K_s + iωC_s), any scene size.
+
+    Parameters
+    ----------
+    scene : Scene
+        Built from components, with declared parameters.
+    values : mapping
+        Parameter -> values, as for :func:`laplace_springs.sweeps.sweep`.
+    omegas : float or array_like
+        A number, a 1-D array (every set) or (P, W) (per set), in rad/s.
+    support : str, optional
+        The support that moves (default: the scene's moving support, or its only one).
+    outputs : sequence, optional
+        Coordinates (names or indices); all by default.
+
+    Returns
+    -------
+    ndarray
+        (P, outputs) for a single frequency, else (P, outputs, W).
+
+    Examples
+    --------
+    A mass on a spring k and dashpot c on moving ground, 1-DOF textbook:
+    T = √((k² + (cω)²)/((k − ω²)² + (cω)²)).
+
+    >>> import laplace_springs as ls
+    >>> scene = ls.Scene.from_components(masses={"m": 1}, springs={"k": ("ground", "m", "k")},
+    ...                                  dashpots={"c": ("ground", "m", "c")}, parameters=["k", "c"])
+    >>> T = sweep_transmissibility(scene, {"k": [4.0, 9.0], "c": [0.4, 0.6]}, 1.5)
+    >>> k, c, w = np.array([4.0, 9.0]), np.array([0.4, 0.6]), 1.5
+    >>> bool(np.allclose(T[:, 0], np.sqrt((k**2 + (c*w)**2) / ((k - w**2)**2 + (c*w)**2)), rtol=1e-13))
+    True
+    """
+    sets, M, C, K = _matrices(scene, values)
+    P, n = len(sets), scene.n
+    Ks, Cs = support_columns(scene, support)
+    symbols = list(sets.symbols)
+    columns = [sets.rows[:, c] for c in range(sets.rows.shape[1])]
+    stiff = np.zeros((P, n))
+    damp = np.zeros((P, n))
+    for target, column in ((stiff, Ks), (damp, Cs)):
+        for i, value in enumerate(column):
+            if value != 0:
+                target[:, i] = np.broadcast_to(np.asarray(
+                    sp.lambdify(symbols, value, modules="numpy")(*columns), dtype=float), (P,))
+    w, single = _frequencies(omegas, P, "sweep_transmissibility")
+    drive = stiff[:, :, None] + 1j * w[:, None, :] * damp[:, :, None]
+    chosen = list(range(n)) if outputs is None else [
+        item if isinstance(item, int) else (scene.mass_names.index(item) if item in scene.mass_names
+                                            else scene.names.index(item))
+        for item in outputs]
+    amplitude = np.abs(_responses(M, C, K, drive, w))[:, chosen]
+    return amplitude[..., 0] if single else amplitude
+
+
+@dataclass
+class ModalQuantities:
+    """Modal quantities of each parameter set, modes ordered by natural frequency.
+
+    Attributes
+    ----------
+    natural_frequency : ndarray
+        (P, modes) ω_n = |λ| (rad/s) of each pole with Im λ ≥ 0 (an overdamped mode gives
+        two real poles, each listed).
+    damping_ratio : ndarray
+        (P, modes) ζ = −Re λ/|λ|.
+    damped_frequency : ndarray
+        (P, modes) ω_d = Im λ.
+    """
+
+    natural_frequency: np.ndarray
+    damping_ratio: np.ndarray
+    damped_frequency: np.ndarray
+
+
+def modal_quantities(scene: Scene, values: Mapping[Any, Any]) -> ModalQuantities:
+    """Natural frequencies, damping ratios and damped frequencies of every parameter set:
+    the eigenvalues of each set's first-order matrix [[0, I], [−M⁻¹K, −M⁻¹C]] (batched
+    LAPACK, float64), any scene size with an invertible M.
+
+    Examples
+    --------
+    One mass: ω_n = √k, ζ = c/(2√k).
+
+    >>> import laplace_springs as ls
+    >>> scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0],
+    ...                                parameters=["c", "k"])
+    >>> q = modal_quantities(scene, {"k": [4.0, 9.0], "c": [0.4, 0.6]})
+    >>> q.natural_frequency.round(12).tolist(), q.damping_ratio.round(12).tolist()
+    ([[2.0], [3.0]], [[0.1], [0.1]])
+    """
+    sets, M, C, K = _matrices(scene, values)
+    P, n = len(sets), scene.n
+    try:
+        Minv = np.linalg.inv(M)
+    except np.linalg.LinAlgError:
+        raise SceneError("modal_quantities: some set's M is singular (massless nodes); "
+                         "use ls.modes(scene.subs(set)) for such sets") from None
+    Z = np.zeros((P, 2 * n, 2 * n))
+    Z[:, np.arange(n), n + np.arange(n)] = 1.0
+    Z[:, n:, :n] = -Minv @ K
+    Z[:, n:, n:] = -Minv @ C
+    poles = np.linalg.eigvals(Z)
+    scale = np.max(np.abs(poles), axis=1, keepdims=True)
+    poles = np.where(np.abs(poles.imag) <= 1e-12 * scale, poles.real + 0j, poles)
+    kept = poles.imag >= 0
+    count = int(np.max(np.sum(kept, axis=1)))
+    omega = np.where(kept, np.abs(poles), np.inf)
+    order = np.argsort(omega, axis=1)[:, :count]
+    chosen = np.take_along_axis(poles, order, axis=1)
+    valid = np.take_along_axis(kept, order, axis=1)
+    natural = np.where(valid, np.abs(chosen), np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zeta = np.where(valid, -chosen.real / natural, np.nan)
+    return ModalQuantities(natural, zeta, np.where(valid, chosen.imag, np.nan))

@@ -15,7 +15,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..model.errors import SceneError
+from ..limits import limits
+from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown, to_exact
 from .entries import DD, parameter_parts
 
@@ -136,6 +137,10 @@ def parameter_sets(names: tuple[str, ...], symbols: tuple[sp.Symbol, ...],
         raise SceneError(f"sweep: the value arrays must have one length (one entry per "
                          f"parameter set), got {listed}")
     P = sizes.pop() if sizes else 1
+    if P > limits().sweep_max_sets:
+        raise LimitError(f"sweep: {P:,} parameter sets, more than Limits.sweep_max_sets = "
+                         f"{limits().sweep_max_sets:,}; sweep them in parts (out= streams each "
+                         "part to a store)")
     if P == 0:
         raise SceneError("sweep: no parameter sets (the value arrays are empty)")
     rows = np.empty((P, len(names)))

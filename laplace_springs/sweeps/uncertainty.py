@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -9,7 +10,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..model.errors import SceneError
+from ..limits import limits
+from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown
 
 __all__ = ["DISTRIBUTIONS", "Summary", "sample_parameters", "summarize"]
@@ -59,6 +61,9 @@ def sample_parameters(spec: Mapping[Any, Any], size: int, seed: Any = None) -> d
     """
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1:
         raise SceneError(f"sample_parameters: size must be a positive integer, got {shown(size)}")
+    if size > limits().sweep_max_sets:
+        raise LimitError(f"sample_parameters: {int(size):,} sets, more than Limits.sweep_max_sets = "
+                         f"{limits().sweep_max_sets:,}; sample and sweep in parts")
     if not isinstance(spec, Mapping):
         raise SceneError(f"sample_parameters: expected a mapping parameter -> distribution, got {shown(spec)}")
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
@@ -95,40 +100,54 @@ def sample_parameters(spec: Mapping[Any, Any], size: int, seed: Any = None) -> d
 
 @dataclass
 class Summary:
-    """Statistics over the parameter sets of a sweep, per coordinate and time.
+    """Statistics over the parameter sets of a sweep (axis 0), per remaining entry.
 
     Attributes
     ----------
     mean, std : ndarray
-        (n, T) mean and standard deviation.
+        Mean and standard deviation, e.g. (n, T) for a sweep's values or (n,) for a
+        per-set quantity.
     levels : tuple of float
         The quantile levels.
     quantiles : ndarray
-        (len(levels), n, T).
+        (len(levels), ...) one array per level.
+    count : int
+        The sets summarised (sets with NaN values, failed with ``on_error="nan"``, are left
+        out entry by entry).
     """
 
     mean: np.ndarray
     std: np.ndarray
     levels: tuple[float, ...]
     quantiles: np.ndarray
+    count: int = 0
 
     def band(self, low: float, high: float) -> tuple[np.ndarray, np.ndarray]:
-        """The (n, T) quantiles at two of the levels, e.g. ``band(0.05, 0.95)``."""
+        """The quantiles at two of the levels, e.g. ``band(0.05, 0.95)``."""
+        return self.quantile(low), self.quantile(high)
+
+    def quantile(self, level: float) -> np.ndarray:
+        """The quantile at one of the levels (0.5 is the median)."""
         try:
-            return self.quantiles[self.levels.index(low)], self.quantiles[self.levels.index(high)]
+            return self.quantiles[self.levels.index(float(level))]
         except ValueError:
-            raise SceneError(f"Summary.band: levels are {self.levels}, got {low}, {high}") from None
+            raise SceneError(f"Summary: levels are {self.levels}, got {shown(level)}") from None
+
+    def percentile(self, percent: float) -> np.ndarray:
+        """The quantile at ``percent``/100 (``percentile(95)``), one of the levels."""
+        return self.quantile(float(percent) / 100)
 
 
 def summarize(values: Any, levels: Sequence[float] = (0.05, 0.5, 0.95)) -> Summary:
-    """Mean, standard deviation and quantiles over the parameter sets (axis 0).
+    """Mean, standard deviation and quantiles (percentiles) over the parameter sets.
 
     Parameters
     ----------
     values : ndarray or SweepResult
-        A sweep's (P, n, T) values.
+        A sweep's (P, n, T) values, or any per-set array (P, ...) such as a quantity
+        ``result.quantities["peak"]`` (P, n) of a Monte Carlo sweep.
     levels : sequence of float
-        Quantile levels in [0, 1].
+        Quantile levels in [0, 1] (``Summary.percentile(95)`` reads the 0.95 level).
 
     Returns
     -------
@@ -137,14 +156,24 @@ def summarize(values: Any, levels: Sequence[float] = (0.05, 0.5, 0.95)) -> Summa
     Examples
     --------
     >>> s = summarize(np.arange(5.0).reshape(5, 1, 1))
-    >>> float(s.mean[0, 0]), s.band(0.05, 0.95)[1][0, 0].item()
-    (2.0, 3.8)
+    >>> float(s.mean[0, 0]), s.band(0.05, 0.95)[1][0, 0].item(), s.percentile(50).item()
+    (2.0, 3.8, 2.0)
     """
-    array = np.asarray(getattr(values, "values", values), dtype=float)
+    source = getattr(values, "values", values)
+    if source is None:
+        raise SceneError("summarize: this sweep kept no values (it reduced them to quantities); "
+                         "summarize one of them, e.g. summarize(result.quantities['peak'])")
+    array = np.asarray(source, dtype=float)
     if array.ndim < 1 or array.shape[0] == 0:
         raise SceneError(f"summarize: expected values with parameter sets on axis 0, got shape {array.shape}")
-    chosen = tuple(float(level) for level in levels)
-    if not all(0 <= level <= 1 for level in chosen):
+    try:
+        chosen = tuple(float(level) for level in levels)
+    except (TypeError, ValueError):
+        raise SceneError(f"summarize: quantile levels must be numbers in [0, 1], got {shown(levels)}") from None
+    if not chosen or not all(0 <= level <= 1 for level in chosen):
         raise SceneError(f"summarize: quantile levels must lie in [0, 1], got {shown(levels)}")
-    return Summary(array.mean(axis=0), array.std(axis=0), chosen,
-                   np.quantile(array, chosen, axis=0))
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an entry NaN in every set stays NaN
+        return Summary(np.nanmean(array, axis=0), np.nanstd(array, axis=0), chosen,
+                       np.nanquantile(array, chosen, axis=0),
+                       int(np.sum(np.all(np.isfinite(array.reshape(array.shape[0], -1)), axis=1))))
