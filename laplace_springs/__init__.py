@@ -110,6 +110,9 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "steady_state_amplitudes": ("sweeps.derived", "steady_state_amplitudes"),
     "support_force": ("sweeps.derived", "support_force"),
     "peak_support_force": ("sweeps.derived", "peak_support_force"),
+    "rms_amplitude": ("sweeps.derived", "rms_amplitude"),
+    "sweep_transmissibility": ("sweeps.derived", "sweep_transmissibility"),
+    "modal_quantities": ("sweeps.derived", "modal_quantities"),
 }
 
 #: The default relative accuracy of every evaluation (``ls.limits().target``).
@@ -129,6 +132,7 @@ __all__ = [
     "resolvent_latex", "s", "sample_parameters", "sampled", "sampled_from_csv", "sawtooth",
     "settling_time", "sine", "solve", "square_wave", "steady_state_amplitude",
     "steady_state_amplitudes", "step", "summarize", "support_force", "sweep", "t",
+    "rms_amplitude", "sweep_transmissibility", "modal_quantities",
     "transfer_function", "transmissibility", "transmissibility_function", "using_limits",
 ]
 
@@ -194,11 +198,14 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
     from .solving import plan_for as plan
     from .solving import solve
     from .sweeps.derived import (
+        modal_quantities,
         peak_amplitude,
         peak_support_force,
+        rms_amplitude,
         settling_time,
         steady_state_amplitudes,
         support_force,
+        sweep_transmissibility,
     )
     from .sweeps.run import SweepResult, grid, sweep
     from .sweeps.uncertainty import sample_parameters, summarize
