@@ -23,6 +23,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from ..exact.partial_fractions import partial_fractions
@@ -34,12 +35,12 @@ from ..model.symbols import lam
 from ..output.chain import chain_of, latex_symbol
 from ..output.drawing import fit_figure
 from ..output.latex import resolvent_latex
-from ..output.plots import plot_energy, plot_motion
+from ..output.plots import default_t_end, plot_energy, plot_motion
 from ..output.text import summary_lines
 from ..solution import Solution
 from ..solving import solve
 
-__all__ = ["Section", "sections", "figure_png", "plot_values"]
+__all__ = ["Section", "sections", "figure_png", "plot_values", "page_t_end"]
 
 
 @dataclass(frozen=True)
@@ -91,6 +92,19 @@ def plot_values(scene: Scene, values: Mapping[str, Any] | None) -> tuple[Scene, 
                          f"(its parameters: {', '.join(s.name for s in scene.parameters) or 'none'})")
     chosen = {s.name: given.get(s.name, 1) for s in scene.parameters}
     return (scene.subs(chosen) if chosen else scene), chosen
+
+
+def page_t_end(solution: Solution, t_end: float | None) -> float:
+    """The span a page plots: ``t_end``, else the plots' default shortened so that 40 samples
+    per fastest period stay within :attr:`~laplace_springs.limits.Limits.page_max_plot_samples`."""
+    if t_end is not None:
+        return float(t_end)
+    end = default_t_end(solution)
+    fastest = float(np.max(np.abs(np.asarray(solution.poles, dtype=complex).imag), initial=0.0))
+    most = limits().page_max_plot_samples
+    if 40 * end * fastest / (2 * np.pi) > most:
+        end = most * 2 * np.pi / (40 * fastest)
+    return end
 
 
 def _tex_matrix(matrix: Any) -> str:
@@ -222,6 +236,11 @@ def _g_functions(solution: Solution) -> Section | None:
 
 
 def _solution_section(solution: Solution) -> Section:
+    if solution.scene.sampled is not None:
+        return Section("solution", "The solution", (
+            f"Solved by the {solution.method} route ({solution.reason}). A measured force has no "
+            "closed form: the motion is exact for the interpolant of the samples, evaluated "
+            "segment by segment (see the plots).",))
     text = (f"Solved by the {solution.method} route ({solution.reason}). The motion, "
             "for \\(t \\ge 0\\):",)
     return Section("solution", "The solution", text, (solution.latex(),))
@@ -315,7 +334,7 @@ def sections(scene: Scene, *, values: Mapping[str, Any] | None = None,
     else:
         parts.append(_large_section(solution))
     parts.append(_check_section(solution, plotted))
-    plots = _plots(plotted, t_end)
+    plots = _plots(plotted, page_t_end(plotted, t_end))
     if chosen:
         listed = ", ".join(f"\\({latex_symbol(k)} = {sp.latex(sp.nsimplify(v))}\\)" for k, v in chosen.items())
         plots = Section(plots.key, plots.title, (f"Plotted at {listed}.",), plots.math, plots.images)

@@ -5,7 +5,8 @@ scene's knobs (:mod:`~laplace_springs.publish.knobs`: its parameters, or up to t
 springs, dashpots and masses) each get a few values around their own (41 for one knob, 15
 for two, 7 for three, in all at most :attr:`~laplace_springs.limits.Limits.page_max_grid_sets`
 sets), and one :func:`laplace_springs.sweeps.sweep` computes x(t) for every set at
-:data:`GRID_TIMES` times (each set within the accuracy contract). The page carries the
+:data:`GRID_TIMES` times (each set to :attr:`~laplace_springs.limits.Limits.explore_target`
+of its motion's size: curves to draw). The page carries the
 values as float32 (base64) and redraws the curves of the set the sliders point at.
 """
 
@@ -22,6 +23,7 @@ import numpy as np
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
+from ..sweeps.compile import compile_scene
 from ..sweeps.run import grid as cartesian
 from ..sweeps.run import sweep
 from .knobs import Knob, knobbed_scene
@@ -79,9 +81,9 @@ def slider_grid(scene: Scene, *, t_end: float, knobs: Sequence[str] | None = Non
     Raises
     ------
     SceneError
-        When the scene cannot be swept (sampled, periodic or delayed forces, more than
-        :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates` coordinates, nothing
-        to turn).
+        When the scene cannot be compiled for the vectorised sweep (sampled, periodic or
+        delayed forces, more than :attr:`~laplace_springs.limits.Limits.sweep_max_coordinates`
+        coordinates: solving the grid set by set would take minutes), or has nothing to turn.
 
     Examples
     --------
@@ -92,10 +94,12 @@ def slider_grid(scene: Scene, *, t_end: float, knobs: Sequence[str] | None = Non
     """
     knobbed, found = knobbed_scene(scene, knobs=knobs, values=values, initial=False, forcing=False,
                                    most=3)
+    if not found and knobs is None:  # no parameters or components (a matrix scene): the initial data
+        knobbed, found = knobbed_scene(scene, values=values, initial=True, forcing=False)
     found = found[:3]
     if not found:
-        raise SceneError("no sliders: the scene has neither parameters nor springs, dashpots or "
-                         "masses that can be turned")
+        raise SceneError("the scene has neither parameters nor springs, dashpots, masses or "
+                         "initial data that can be turned")
     count = COUNTS[len(found)]
     most = limits().page_max_grid_sets
     count = min(count, max(2, int(math.floor(most ** (1.0 / len(found))))))
@@ -105,8 +109,9 @@ def slider_grid(scene: Scene, *, t_end: float, knobs: Sequence[str] | None = Non
     turned = {knob.name for knob in found}
     others = {s.name: float(given.get(s.name, 1.0))  # parameters not turned stay at their values
               for s in knobbed.parameters if s.name not in turned}
+    compile_scene(knobbed)  # refuses, with the reason, what the vectorised sweep cannot take
     times = np.linspace(0.0, float(t_end), GRID_TIMES)
     sets = len(next(iter(product.values())))
     data = dict(product, **{name: np.full(sets, value) for name, value in others.items()})
-    result = np.asarray(sweep(knobbed, data, times), dtype=float)
+    result = np.asarray(sweep(knobbed, data, times, target=limits().explore_target), dtype=float)
     return SliderGrid(tuple(found), axes, times, result, tuple(scene.names))

@@ -237,7 +237,10 @@ def _component_knobs(scene: Scene, M: sp.Matrix, C: sp.Matrix, K: sp.Matrix,
     """Springs, dashpots and masses as knobs: their stamps on K, C and M."""
     if not all(m.is_symmetric() for m in (scene.M, scene.C, scene.K)):
         return M, C, K  # a normalised scene rescaled to masses: its forces would change too
-    chain = chain_of(scene)
+    try:
+        chain = chain_of(scene)
+    except SceneError:  # a matrix scene that is no chain has no springs or dashpots to turn
+        return M, C, K
     index = {name: i for i, name in enumerate(chain.masses)}
     moving = {name for name, _ in scene.support_motion}
     candidates: list[tuple[str, str, Any, Any]] = []

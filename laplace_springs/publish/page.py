@@ -32,9 +32,8 @@ from .._version import __version__
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..output.animation import animate
-from ..output.plots import default_t_end
 from ..solution import Solution
-from .content import Section, sections
+from .content import Section, page_t_end, sections
 from .document import document_tex, write_document
 from .grid import SliderGrid, slider_grid
 from .mathjax import mathjax_config, mathjax_script
@@ -145,7 +144,7 @@ def worked_example(scene: Scene, *, values: Mapping[str, Any] | None = None,
     True
     """
     parts, solution, plotted = sections(scene, values=values, t_end=t_end)
-    end = default_t_end(plotted) if t_end is None else float(t_end)
+    end = page_t_end(plotted, t_end)
     movie = None
     if animation:
         try:

@@ -23,9 +23,11 @@ def _read_back(movie):
 
 
 @pytest.mark.parametrize("name", sorted(ls.bundled_scenes()))
-def test_frames_show_evaluate_at_the_frame_times(name):
+def test_frames_show_evaluate_at_the_frame_times(name, tmp_path):
     scene = ls.load_scene(name)
     movie = animate(ls.solve(scene), duration=1.0, fps=4)
+    with Image.open(movie.save(tmp_path / f"{name}.gif", dpi=30)) as image:  # saved, every frame
+        assert image.n_frames == len(movie)
     reference = ls.solve(scene)  # a separate solution, one time per call
     assert len(movie) == 5
     for k in range(len(movie)):
