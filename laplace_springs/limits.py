@@ -261,12 +261,13 @@ class Limits:
     #: is a PNG of 20-60 kB in an inline (to_jshtml) animation.
     animation_max_frames: int = 300
     #: Most parameter sets a worked-example page precomputes for its sliders (each set is
-    #: n x 120 values, about 1.5 kB of JSON per coordinate in the page).
+    #: n x 121 float32 values in base64, about 650 bytes per coordinate in the page).
     page_max_grid_sets: int = 400
     #: Accuracy of the curves the explorer and the pages' sliders draw, relative to
-    #: max(‖x(t)‖∞, S₀): 1e-8 is far below a pixel (1e-3). At the default target the sweep kernel's estimate
-    #: near a drive within its cluster gap of a lightly damped mode (about 1e-10, measured on
-    #: Example 5 with ω = 18) sends the set to the exact solver: 0.4 s instead of 16 ms a move.
+    #: max(‖x(t)‖∞, S₀): 1e-8 is far below a pixel (1e-3). At the default target the sweep
+    #: kernel's estimate near a drive within its cluster gap of a lightly damped mode (about
+    #: 1e-10, measured on Example 5 with ω = 18) sends the set to the exact solver: 0.4 s
+    #: instead of 16 ms a move.
     explore_target: float = 1e-8
     #: Most samples of a page's plot: a stiff scene (ω = 1414 on Example 1 with k = 10⁶) asked
     #: for 200,000 and took 18 s to draw; beyond this the page plots a shorter span.
