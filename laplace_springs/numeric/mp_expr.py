@@ -134,16 +134,26 @@ def mp_value(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     expr = sp.sympify(expr)
     guard = 30
     try:
-        low = _at(expr, dps + guard, caches)
+        low = _at_or_none(expr, dps + guard, caches)
         while guard <= _MAX_GUARD:
-            high = _at(expr, dps + 2 * guard, caches)
-            if _agree(low, high, dps):
+            high = _at_or_none(expr, dps + 2 * guard, caches)
+            if low is not None and high is not None and _agree(low, high, dps):
                 with mpmath.workdps(dps):
                     return +mpmath.re(high)
             low, guard = high, 2 * guard
-    except (_Unsupported, TypeError, ValueError, ZeroDivisionError):
+    except (_Unsupported, TypeError, ValueError):
         pass
     return _fallback(expr, dps)
+
+
+def _at_or_none(expr: sp.Expr, dps: int, caches: dict):
+    """:func:`_at`, or None where a difference cancelled to an exact zero that is then
+    divided by (1 − e^{−Pλ} at a period P below 10^{-dps}: more digits are needed, not
+    SymPy's evalf, which returns such a quotient wrong without a word)."""
+    try:
+        return _at(expr, dps, caches)
+    except ZeroDivisionError:
+        return None
 
 
 def _agree(low, high, dps: int) -> bool:

@@ -228,8 +228,11 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
             values, sizes = _mp_sum(source.poles, n, ts)
             top = scale if scale else max((abs(v) for row in values for v in row), default=0)
             mag = max((s for row in sizes for s in row), default=mpmath.mpf(0))
-        lost = _digits(mag / top) if top else 0
-        if work - lost - extra >= digits + 5 or work > 4 * digits + 200:
+        # a sum that cancelled to exactly 0 lost every digit (a periodic response's
+        # one-period sums at a period of 1e-35: terms of 1e34 whose sum is of order 1)
+        lost = _digits(mag / top) if top else (work if mag else 0)
+        cap = 4 * digits + 200 + _digits(mag / scale if scale else mag)
+        if work - lost - extra >= digits + 5 or work > cap:
             return values, sizes, work
         work = digits + lost + extra + 10
 

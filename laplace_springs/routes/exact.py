@@ -207,12 +207,30 @@ class ExactSolution(Solution):
         return values, bounds
 
     def _mp(self, times: Times, order: int, digits: int, floor: float) -> tuple[list, list]:
-        """mpmath values and bounds (n lists of mpf) good to ``digits``."""
+        """mpmath values and bounds (n lists of mpf) good to ``digits`` of max(|x|, floor).
+
+        The parts (pieces, a periodic response's sums at the reduced times, its tail) are
+        each good to ``digits`` of their own size; where they cancel (a period of 1e-40:
+        sums of 1e33 that add up to 0.05) the evaluation is redone with the digits lost."""
+        total, bounds, sizes = self._mp_parts(times, order, digits, floor)
+        with mpmath.workdps(30):
+            scale = max([mpmath.mpf(floor), *(abs(v) for row in total for v in row)])
+            lost = max((s / scale for row in sizes for s in row), default=mpmath.mpf(0))
+        if lost > 10 and scale > 0 and digits < limits().max_dps:
+            more = min(digits + int(mpmath.log10(lost)) + 5, limits().max_dps)
+            total, bounds, _ = self._mp_parts(times, order, more, floor)
+        return total, bounds
+
+    def _mp_parts(self, times: Times, order: int, digits: int,
+                  floor: float) -> tuple[list, list, list]:
+        """:meth:`_mp` once: values, bounds (each part's, plus the rounding of their sum)
+        and the sum of the parts' sizes."""
         n = self.scene.n
         work = digits + 20
         with mpmath.workdps(work):
             total = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             bounds = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
+            sizes = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             stamps = [times.mpf(j) for j in range(len(times))]
         for piece, data in zip(self.pieces, self._numeric(order)):
             with mpmath.workdps(work):
@@ -227,6 +245,7 @@ class ExactSolution(Solution):
                     for i in range(n):
                         total[i][j] += part[i][k]
                         bounds[i][j] += bound[i][k]
+                        sizes[i][j] += abs(part[i][k])
         periodic = self._periodic_numeric(order)
         if periodic is not None:
             response, sums, rest = periodic
@@ -239,7 +258,11 @@ class ExactSolution(Solution):
                         for i in range(n):
                             total[i][j] += part[i][j]
                             bounds[i][j] += bound[i][j]
-        return total, bounds
+                            sizes[i][j] += abs(part[i][j])
+        with mpmath.workdps(work):  # the rounding of the sums of the parts
+            unit = mpmath.mpf(10) ** (1 - work)
+            bounds = [[b + s * unit for b, s in zip(rb, rs)] for rb, rs in zip(bounds, sizes)]
+        return total, bounds, sizes
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         digits = max(limits().escalation_digits, math.ceil(-math.log10(target)) + 5)
