@@ -50,6 +50,7 @@ defective eigenvalues.
 
 from __future__ import annotations
 
+import cmath
 import math
 from typing import Any
 
@@ -143,32 +144,22 @@ def _eye(size: int) -> np.ndarray:
 
 class _Block:
     """One block of B on ``columns`` of X: 1 x 1 (the rate ``mu``) or 2 x 2 (μI + N with
-    d = −det N formed in extended precision, ``d_error`` its rounding). ``weight`` is 2 for
-    the upper member of a conjugate pair, whose partner is not evaluated (``skip``);
-    ``real`` blocks have real columns and coefficients."""
+    d = −det N, ``d_error`` its rounding). ``weight`` is 2 for the upper member of a
+    conjugate pair, whose partner is not evaluated (``skip``); ``real`` blocks have real
+    columns and coefficients. ``nu`` = ‖N‖_F, ``root`` = √d (the eigenvalues are μ ± √d)
+    and ``growth`` (their largest real part) are computed once."""
 
-    __slots__ = ("columns", "mu", "N", "d", "d_error", "weight", "skip", "real")
+    __slots__ = ("columns", "mu", "N", "d", "d_error", "weight", "skip", "real", "nu", "root",
+                 "growth")
 
     def __init__(self, columns: tuple[int, ...], mu: complex, N: np.ndarray | None = None,
                  d: complex = 0j, d_error: float = 0.0, *, weight: int = 1,
                  skip: bool = False, real: bool = False) -> None:
-        self.columns, self.mu, self.N, self.d, self.d_error = columns, mu, N, d, d_error
+        self.columns, self.mu, self.N, self.d, self.d_error = columns, complex(mu), N, d, d_error
         self.weight, self.skip, self.real = weight, skip, real
-
-    @property
-    def nu(self) -> float:
-        """‖N‖_F (0 for a 1 x 1 block)."""
-        return 0.0 if self.N is None else _norm(self.N)
-
-    @property
-    def root(self) -> complex:
-        """√d: the block's eigenvalues are μ ± √d."""
-        return complex(np.sqrt(complex(self.d)))
-
-    @property
-    def growth(self) -> float:
-        """The largest real part of the block's eigenvalues."""
-        return self.mu.real + (0.0 if self.N is None else abs(self.root.real))
+        self.nu = 0.0 if N is None else _norm(N)
+        self.root = 0j if N is None else cmath.sqrt(d)
+        self.growth = self.mu.real + abs(self.root.real)
 
 
 class BlockMotion:
@@ -327,9 +318,10 @@ class BlockMotion:
         a = (b00 - b11) / 2
         d = a * a + b01 * b10
         size = abs(a) ** 2 + abs(b01 * b10)
-        # each complex product and the sum: ≤ 2√2u + 2u of the terms (here 6u)
+        # each complex product and the sum: ≤ 2√2u + 2u of the terms; √d's rounding (≤ 2u
+        # relative, so root² is d within 4u|d|): 8u of the terms and 4u of |d| in all
         return _Block(columns, (b00 + b11) / 2, np.array([[a, b01], [b10, -a]]), d,
-                      6 * U * size + U * abs(d))
+                      8 * U * size + 4 * U * abs(d))
 
     def _finish(self, X: np.ndarray, Y: np.ndarray | None) -> None:
         """Coefficients, residuals and the constants of the bound. The rounding of each
@@ -356,7 +348,16 @@ class BlockMotion:
             if Y is None:
                 self.failure = "the eigenvector basis is singular"
                 return
-        coefficients: list[complex] = (Y @ self.y0).tolist()
+        # R = Z X − X B in extended precision (Z exact to 2⁻⁶⁴), then one product with Y
+        # gives the coefficients Y y₀, Y X (for θ) and Y R (for φ)
+        X_long = X.astype(np.clongdouble)
+        Z_long = self.Z.astype(np.longdouble)
+        if self.Z_lo is not None:
+            Z_long += self.Z_lo
+        XB = X_long * diagonal if diagonal is not None else X_long @ B
+        R = (Z_long @ X_long - XB).astype(complex)
+        product = Y @ np.column_stack((self.y0, X, R))
+        coefficients: list[complex] = product[:, 0].tolist()
         for block in blocks:  # the coefficients of a real motion
             for i in block.columns:
                 if block.real:
@@ -364,28 +365,20 @@ class BlockMotion:
                 elif block.weight == 2:
                     coefficients[i + 1] = coefficients[i].conjugate()
         self.c = c = np.array(coefficients)
-        X_norm, Y_norm = _norm(X), _norm(Y)
+        X_norm, Y_norm, R_norm = _norm(X), _norm(Y), _norm(R)
         gamma = (2 * size + 4) * U
-        theta = _norm(_eye(size) - Y @ X) + gamma * Y_norm * X_norm
+        theta = _norm(_eye(size) - product[:, 1:size + 1]) + gamma * Y_norm * X_norm
         if not theta < _MAX_THETA:
             self.failure = f"the basis is too ill-conditioned (‖I − X⁻¹X‖ = {theta:.2g})"
             return
         inverse = Y_norm / (1 - theta)  # ≥ ‖X⁻¹‖₂
-        # R = Z X − X B and r₀ = X c − y₀ in extended precision, Z exact to 2⁻⁶⁴
-        X_long = X.astype(np.clongdouble)
-        Z_long = self.Z.astype(np.longdouble)
-        if self.Z_lo is not None:
-            Z_long += self.Z_lo
-        XB = X_long * diagonal if diagonal is not None else X_long @ B
-        R = (Z_long @ X_long - XB).astype(complex)
-        R_norm = _norm(R)
         R_error = ((2 * size + 6) * _U_LONG * (_norm(self.Z) + B_norm) * X_norm
                    + U * R_norm)
-        phi = (_norm(Y @ R) + gamma * Y_norm * R_norm + Y_norm * R_error
+        phi = (_norm(product[:, size + 1:]) + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
-        r0 = _norm((X_long @ c.astype(np.clongdouble) - self.y0).astype(complex))
         c_norm, y0_norm = _norm(c), _norm(self.y0)
-        # r₀'s rounding; y₀ holds the exact data rounded once
+        # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
+        r0 = _norm((X_long @ c.astype(np.clongdouble) - self.y0).astype(complex))
         r0_error = (2 * size + 4) * _U_LONG * (X_norm * c_norm + y0_norm) + U * (y0_norm + r0)
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
@@ -452,36 +445,33 @@ class BlockMotion:
             return (E * (g_C + t * g_S)).real
         return (E * (np.cosh(root * t) * g_C + (np.sinh(root * t) / root) * g_S)).real
 
-    def _growth_factor(self, t: np.ndarray) -> tuple[np.ndarray, float]:
-        """q(t) with ‖e^{Bτ}‖ ≤ e^{μτ}q(τ) for τ ≤ t, q nondecreasing, and ν = max ‖N‖.
+    def _growth_constants(self) -> tuple[float, float]:
+        """(K, ν) with ‖e^{Bτ}‖ ≤ e^{μτ}·min(K, 1 + ντ) =: e^{μτ}q(τ), q nondecreasing.
 
-        A 2 x 2 block bounded by e^{gτ}(1 + ν·min(τ, 1/|√d|)) with g = μ − a below the top
-        rate μ contributes at most max_τ e^{−aτ}(1 + ντ) = (ν/a)e^{a/ν − 1} when ν > a
-        (else 1), and at most 1 + ν·min(t, 1/|√d|) by time t; a 1 x 1 block 1.
+        A 2 x 2 block is bounded by e^{gτ}(1 + ν_b·min(τ, 1/|√d|)) ≤ e^{gτ}(1 + ν_b τ); below
+        the top rate μ (g = μ − a) that is at most e^{μτ}·max_τ e^{−aτ}(1 + ν_bτ), which is
+        (ν_b/a)e^{a/ν_b − 1} when ν_b > a, else 1. K is the largest of these (inf when a
+        block sits at the top rate), ν the largest ν_b; 1 x 1 blocks contribute 1.
         """
-        q: np.ndarray | float = 1.0
-        nu = 0.0
+        K, nu = 1.0, 0.0
         for block in self.blocks:
             if block.N is None or block.skip:
                 continue
-            size = block.nu
-            nu = max(nu, size)
+            nu = max(nu, block.nu)
             gap = self.growth - block.growth
-            if gap > 0 and size <= gap:
-                continue
-            linear = 1 + size * _reach(block, t)
-            if gap > 0:
-                linear = np.minimum(linear, size / gap * math.exp(gap / size - 1))
-            q = np.maximum(q, linear)
-        return np.broadcast_to(q, t.shape), nu
+            if gap <= 0:
+                K = math.inf
+            elif block.nu > gap:
+                K = max(K, block.nu / gap * math.exp(gap / block.nu - 1))
+        return K, nu
 
     def _bounds(self, weights: _Order, t: np.ndarray) -> np.ndarray:
         """The decomposition's error, the rounding of the evaluation and of d (times
         _SAFETY). e^{wt}'s argument is off by |w|·(2u·t + |lo|) with |lo| ≤ u·t: relative
         3.03u·|w|·t (e^δ − 1 ≤ 1.0001δ where e^{wt} neither underflows nor overflows);
         the libm, the product with the weight, the real part and the sum over 2n terms
-        add (2n + 8)u. Every term is a per-time function times a per-coordinate constant,
-        and each time's bound depends on that time alone."""
+        add (2n + 8)u. Every term is a per-coordinate constant times a per-time function,
+        computed elementwise: each time's bound depends on that time alone."""
         phi = self.phi
         shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t
         decay = np.exp(self.growth * t)
@@ -491,48 +481,33 @@ class BlockMotion:
             G = np.exp((self.growth + phi) * t) * _SAFETY
             bounds = np.multiply.outer(weights.rows, G * (phi * self.c_norm * t + self.rho0))
             bounds += np.multiply.outer(weights.single_size, decay * shift * _SAFETY)
-            bounds += floor
             if weights.F_rows is not None:
                 bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
                                             * (self.c_norm + self.rho0) * G)
-            return bounds
-        q, nu = self._growth_factor(t)
-        spread = np.exp(q * phi * t)
-        G = decay * q * spread
-        # ∫₀ᵗ q(t − s) q(s) ds ≤ t·q(t)², and ≤ t(1 + νt + (νt)²/6) as q(τ) ≤ 1 + ντ
+            return bounds + floor
+        K, nu = self._growth_constants()
         nu_t = nu * t
-        integral = np.minimum(t * q * q, t * (1 + nu_t + nu_t * nu_t / 6))
-        bounds = np.multiply.outer(weights.rows, decay * spread * (phi * self.c_norm) * integral
-                                   + G * self.rho0)
+        q = np.minimum(K, 1 + nu_t)
+        spread = decay * np.exp(q * phi * t)
+        # ∫₀ᵗ q(t − s) q(s) ds ≤ t·q(t)², and ≤ t(1 + νt + (νt)²/6) as q(τ) ≤ 1 + ντ
+        integral = t * np.minimum(q * q, 1 + nu_t + nu_t * nu_t / 6)
+        bounds = np.multiply.outer(weights.rows, spread * (phi * self.c_norm * integral
+                                                           + q * self.rho0))
         if weights.F_rows is not None:
             bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
-                                        * (self.c_norm + self.rho0) * G)
-        bounds += np.multiply.outer(weights.single_size, decay * shift)
-        # the 2 x 2 blocks, each within e^{μt} ≥ e^{Re μ_b t}·cosh(Re √d t): cosh and sinh of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their
-        # envelopes (|C| ≤ 1·, |S| ≤ min(t, 1/|√d|)·), the libm by 4u; and the rounding
-        # δd of d: |∂C/∂d| = t|S|/2 and |∂S/∂d| = |tC − S|/2|d|, or by the series
-        # |∂S/∂d| ≤ t³/4·cosh(√|d| t) ≤ 0.39t³ where |√d|t ≤ 1
+                                        * (self.c_norm + self.rho0) * q * spread)
+        # the 2 x 2 blocks, each within e^{μt} ≥ e^{Re μ_b t}·cosh(Re √d·t): cosh and sinh
+        # of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their envelopes
+        # (|C| ≤ 1·, |S| ≤ t·), the libm by 4u; and the rounding δd of d: |∂C/∂d| =
+        # t|S|/2 ≤ t²/2·, |∂S/∂d| ≤ t³/4·cosh(√|d|·t) (the series) with s = max |√d|
         largest = max(abs(block.root) for block, *_ in weights.doubles)
         rounding = decay * (shift + (2 * largest * t + 4) * U)
-        bounds += np.multiply.outer(weights.double_C, rounding)
-        for block, _, g_S, (rows, c_norm, Nc_norm) in weights.doubles:
-            size = abs(block.root)
-            reach = _reach(block, t)
-            dS = 0.39 * t ** 3 if size == 0 or size * float(t.max(initial=0.0)) <= 1 \
-                else np.where(size * t <= 1, 0.39 * t ** 3, (t + reach) / (2 * size * size))
-            bounds += np.multiply.outer(np.abs(g_S[:, 0]), rounding * reach)
-            bounds += np.multiply.outer(block.weight * block.d_error * rows, decay
-                                        * (t / 2 * reach * c_norm + dS * Nc_norm))
+        bounds += np.multiply.outer(weights.single_size + weights.double_C, rounding)
+        bounds += np.multiply.outer(weights.double_S, rounding * t)
+        squared = decay * (t * t)
+        bounds += np.multiply.outer(weights.d_C, squared / 2)
+        bounds += np.multiply.outer(weights.d_S, squared * t * np.cosh(largest * t) / 4)
         return bounds * _SAFETY + floor
-
-
-def _reach(block: _Block, t: np.ndarray) -> np.ndarray:
-    """min(t, 1/|√d|) ≥ |sinh(√d t)/√d| / cosh(Re √d·t), elementwise (t itself when no
-    time reaches the cap: the same numbers)."""
-    size = abs(block.root)
-    if size == 0 or size * float(t.max(initial=0.0)) <= 1:
-        return t
-    return np.minimum(t, 1 / size)
 
 
 class _Order:
@@ -571,9 +546,15 @@ class _Order:
         self.oscillating = [rate.imag != 0 for rate in rates]
         self.doubles = doubles
         self.single_size = np.abs(g).sum(axis=1)
-        self.double_C = sum((np.abs(g_C[:, 0]) for _, g_C, _, _ in doubles), np.zeros(L.shape[0]))
+        zero = np.zeros(L.shape[0])
+        self.double_C = sum((np.abs(g_C[:, 0]) for _, g_C, _, _ in doubles), zero)
+        self.double_S = sum((np.abs(g_S[:, 0]) for _, _, g_S, _ in doubles), zero)
+        #: the rounding δd of each block's d times ‖rows‖·‖c_b‖ and ‖rows‖·‖N c_b‖
+        self.d_C = sum((block.weight * block.d_error * c_norm * rows
+                        for block, _, _, (rows, c_norm, _) in doubles), zero)
+        self.d_S = sum((block.weight * block.d_error * Nc_norm * rows
+                        for block, _, _, (rows, _, Nc_norm) in doubles), zero)
         #: Σ of every weight's size per row (the absolute floor of the bound)
-        self.size = self.single_size + self.double_C + sum(
-            (np.abs(g_S[:, 0]) for _, _, g_S, _ in doubles), np.zeros(L.shape[0]))
+        self.size = self.single_size + self.double_C + self.double_S
         self.rows = np.sqrt((L.real ** 2 + L.imag ** 2).sum(axis=1))
         self.F_rows = F_rows
