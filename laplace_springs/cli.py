@@ -46,6 +46,7 @@ from .analysis.modes import float_modes, modes
 from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
+from .model.names import coordinate_index
 from .model.numbers import split_unit
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
@@ -321,14 +322,7 @@ def _coordinates_of(scene: Scene, text: str | None) -> list[int] | None:
         return None
     chosen: list[int] = []
     for item in (part.strip() for part in text.split(",")):
-        for names in (scene.names, scene.mass_names):
-            if item in names:
-                index = names.index(item)
-                break
-        else:
-            shown = ", ".join(scene.names[:8]) + (", ..." if scene.n > 8 else "")
-            raise UsageError(f"--coordinates: the scene has no coordinate or mass {item!r}; "
-                             f"its coordinates are {shown}")
+        index = coordinate_index(item, "--coordinates", names=scene.names, mass_names=scene.mass_names)
         if index in chosen:
             raise UsageError(f"--coordinates: {item!r} is given twice")
         chosen.append(index)
@@ -472,13 +466,9 @@ def _count(number: int, noun: str) -> str:
 
 
 def _coordinate_index(scene: Scene, name: str) -> int:
-    """The coordinate a ``--forcing NAME=`` refers to: a coordinate name or a mass name."""
-    for names in (scene.names, scene.mass_names):
-        if name in names:
-            return names.index(name)
-    masses = f" or masses {', '.join(scene.mass_names)}" if scene.mass_names else ""
-    raise UsageError(f"--forcing {name}: the scene has no coordinate or mass {name!r}; "
-                     f"name one of the coordinates {', '.join(scene.names)}{masses}")
+    """The coordinate a ``--forcing NAME=`` refers to: a mass name, else a coordinate name
+    (:func:`~laplace_springs.model.names.coordinate_index`, as everywhere)."""
+    return coordinate_index(name, f"--forcing {name}", names=scene.names, mass_names=scene.mass_names)
 
 
 def _add_response_command(commands) -> None:

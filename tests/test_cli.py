@@ -268,8 +268,8 @@ def test_bad_dps_is_one_line(capsys, args, fragment):
     (["--formula", "--latex"], "--formula and --modes go without --latex and --at"),
     (["--modes", "--at", "1"], "--formula and --modes go without --latex and --at"),
     (["--modes", "--coordinates", "x1"], "--coordinates goes with the formula"),
-    (["--coordinates", "x3"], "--coordinates: the scene has no coordinate or mass 'x3'; "
-                              "its coordinates are x1, x2"),
+    (["--coordinates", "x3"], "--coordinates: unknown mass or coordinate 'x3'; masses are m1, m2; "
+                              "coordinates are x1, x2"),
     (["--coordinates", "x1,m1"], "--coordinates: 'm1' is given twice"),
 ])
 def test_bad_formula_options_are_one_line(capsys, args, fragment):

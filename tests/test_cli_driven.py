@@ -40,7 +40,7 @@ def test_solve_forcing_by_name_and_formula(capsys):
     (("--forcing", "cos(t)"), "--forcing was given once; the scene has 2 coordinates (x1, x2)"),
     (("--forcing", "1", "--forcing", "2", "--forcing", "3"), "given 3 times; the scene has 2 coordinates"),
     (("--forcing", "x1=cos(t**2)"), "not linear in t"),
-    (("--forcing", "x9=1"), "no coordinate or mass 'x9'; name one of the coordinates x1, x2 or masses m1, m2"),
+    (("--forcing", "x9=1"), "unknown mass or coordinate 'x9'; masses are m1, m2; coordinates are x1, x2"),
     (("--forcing", "1", "--forcing", "x2=1"), "not both"),
     (("--forcing", "m1=1", "--forcing", "x1=2"), "coordinate x1 is given twice"),
     (("--forcing", "m2=cos(x)"), "--forcing m2: expected an expression in t, got 'cos(x)': unknown name 'x'"),

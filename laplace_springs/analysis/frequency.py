@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike
 
 from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
+from ..model.names import coordinate_index
 from ..model.numbers import to_exact
 from ..model.scene import Scene
 from ..model.supports import support_columns
@@ -188,11 +189,7 @@ def _output_rows(scene: Scene, outputs: Sequence[Any] | None) -> list[int]:
     rows = []
     for item in outputs:
         if isinstance(item, str):
-            names = scene.mass_names if item in scene.mass_names else scene.names
-            if item not in names:
-                raise SceneError(f"outputs: unknown coordinate {item!r}; masses are "
-                                 f"{', '.join(scene.mass_names or scene.names)}")
-            rows.append(names.index(item))
+            rows.append(coordinate_index(item, "outputs", names=scene.names, mass_names=scene.mass_names))
         elif isinstance(item, (int, np.integer)) and not isinstance(item, bool) and 0 <= item < scene.n:
             rows.append(int(item))
         else:

@@ -42,6 +42,7 @@ from .components import Component
 from .equations import read_equations
 from .errors import SceneError
 from .forcing import forcing_vector
+from .names import describe_coordinate, in_coordinate_order
 from .numbers import declare_parameters, generic_values, shown, to_exact
 from .sampled import Sampled, sampled_entries
 from .supports import (
@@ -354,7 +355,10 @@ def _not_finite(entry: Any) -> bool:
 
 
 def _has_time(entry: Any) -> bool:
-    return not isinstance(entry, sympy.Rational) and entry.has(TIME)
+    """Whether ``entry`` holds the time: ls.t, or any Symbol named t (a Symbol named t is
+    time wherever it appears, whatever its assumptions)."""
+    return not isinstance(entry, sympy.Rational) and (
+        entry.has(TIME) or any(symbol.name == "t" for symbol in entry.free_symbols))
 
 
 def _check_finite(name: str, entries: Entries) -> None:
@@ -607,8 +611,10 @@ def _common_null_vector(M: Any, C: Any, K: Any) -> list[sympy.Expr] | None:
     return vector
 
 
-def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> str:
-    """Why Δ ≡ 0: name a motion that meets no mass, dashpot or spring, when there is one."""
+def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase,
+                             label: Callable[[int], str]) -> str:
+    """Why Δ ≡ 0: name a motion that meets no mass, dashpot or spring, when there is one
+    (coordinates named by ``label``, as the user named them)."""
     text = (
         "the pencil λ²M + λC + K is singular: det(λ²M + λC + K) is identically zero, so the "
         "motion is not determined by the equations"
@@ -625,18 +631,17 @@ def _singular_pencil_message(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.
     vector = [entry / pivot for entry in null]
     coordinates = [i for i, entry in enumerate(vector) if entry != 0]
     if len(coordinates) == 1:
-        return f"{text}; coordinate {coordinates[0]} has no mass and no spring or dashpot acting on it"
+        return f"{text}; {label(coordinates[0])} has zero mass and no spring or dashpot acting on it"
+    named = ", ".join(label(i) for i in coordinates[:_LISTED])
+    named += f", ... ({len(coordinates):,} in all)" if len(coordinates) > _LISTED else ""
     if len(vector) > 8:
-        return (f"{text}; the motion {shown([vector[i] for i in coordinates])} of coordinates "
-                f"{shown(coordinates)} (the others at rest) meets no mass, dashpot or spring")
-    return (
-        f"{text}; the motion along {vector} (coordinates {coordinates}) meets no mass, "
-        "dashpot or spring"
-    )
+        return (f"{text}; the motion {shown([vector[i] for i in coordinates])} of {named} "
+                "(the others at rest) meets no mass, dashpot or spring")
+    return f"{text}; the motion along {vector} ({named}) meets no mass, dashpot or spring"
 
 
 def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase,
-                       entries: Entries) -> None:
+                       entries: Entries, label: Callable[[int], str]) -> None:
     """M (nonzero ``entries``): nonnegative masses / positive semi-definite; if singular, a
     regular pencil."""
     if _is_diagonal(entries):
@@ -654,7 +659,7 @@ def _check_mass_matrix(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
         else:
             singular = sympy.cancel(M.det()) == 0
     if singular and not _pencil_is_regular(M, C, K):
-        raise SceneError(_singular_pencil_message(M, C, K))
+        raise SceneError(_singular_pencil_message(M, C, K, label))
 
 
 def _check_names(names: tuple[str, ...], n: int) -> None:
@@ -810,17 +815,16 @@ def _resolved(mapping: dict[sympy.Symbol, sympy.Expr]) -> dict[sympy.Symbol, sym
     raise SceneError(f"subs: the values of {', '.join(cyclic)} refer to each other in a cycle")
 
 
-def _initial_by_mass(value: Any, name: str, mass_names: Sequence[str]) -> Any:
-    """A mapping mass name -> value becomes a list in coordinate order (missing: 0)."""
+def _initial_by_mass(value: Any, name: str, names: Sequence[str],
+                     mass_names: Sequence[str] = ()) -> Any:
+    """A mapping mass or coordinate name -> value becomes a list in coordinate order
+    (missing: 0), names resolved by :func:`~laplace_springs.model.names.coordinate_index`
+    (a mass name first)."""
     if value is None:
-        return [0] * len(mass_names)
+        return [0] * len(names)
     if not isinstance(value, Mapping):
         return value
-    known = set(mass_names)
-    unknown = [key for key in value if key not in known]
-    if unknown:
-        raise SceneError(f"{name}: unknown mass {shown(unknown[0])}; masses are {_listed(mass_names)}")
-    return [value.get(mass, 0) for mass in mass_names]
+    return in_coordinate_order(value, name, names=names, mass_names=mass_names)
 
 
 # ----------------------------------------------------------------------------
@@ -941,7 +945,7 @@ class Scene:
         for field in ("M", "C", "K", "x0", "v0"):
             _check_finite(field, entries[field])
         _check_time_free(entries)
-        _check_mass_matrix(self.M, self.C, self.K, entries["M"])
+        _check_mass_matrix(self.M, self.C, self.K, entries["M"], self._coordinate_label)
         if isinstance(self.names, str):
             raise SceneError(f"names must be a sequence of strings, got {self.names!r}")
         object.__setattr__(self, "names", tuple(self.names))
@@ -959,6 +963,14 @@ class Scene:
         declared = declare_parameters(self.parameters, self.M, self.C, self.K, self.x0, self.v0,
                                       self.forcing)
         object.__setattr__(self, "parameters", tuple(declared[name] for name in sorted(declared)))
+
+    def _coordinate_label(self, index: int) -> str:
+        """Coordinate ``index`` as the user named it (for messages; safe before the names
+        are checked)."""
+        names = self.names if isinstance(self.names, (tuple, list)) else ()
+        masses = self.mass_names if isinstance(self.mass_names, (tuple, list)) else ()
+        return describe_coordinate(index, names=[str(name) for name in names],
+                                   mass_names=[str(name) for name in masses])
 
     def _repr_latex_(self) -> str | None:
         """The equations M x'' + C x' + K x = f(t) with their matrices (Jupyter shows it).
@@ -1124,8 +1136,8 @@ class Scene:
     def with_initial(self, *, x0: Any = None, v0: Any = None) -> Scene:
         """A new scene with other initial data; ``None`` keeps the current value.
 
-        ``x0`` and ``v0`` are vectors, or mappings from mass names (coordinate
-        names for a scene built from matrices) to values, missing ones 0.
+        ``x0`` and ``v0`` are vectors, or mappings from mass or coordinate names to
+        values, missing ones 0 (a mass name first: see :mod:`laplace_springs.model.names`).
 
         Examples
         --------
@@ -1135,22 +1147,22 @@ class Scene:
         >>> scene.with_initial(x0={"x1": "1/3"}).x0
         Matrix([[1/3]])
         """
-        keys = self.mass_names or self.names
         declared = declare_parameters(self.parameters, x0, v0)
         given = updated_entries(self.units, {"x0": x0, "v0": v0}, declared)  # in the scene's units
         x0, v0 = given["x0"], given["v0"]
         changes = {}
         for name, value in (("x0", x0), ("v0", v0)):
             if value is not None:
-                changes[name] = _exact_vector(_initial_by_mass(value, name, keys), name, self.n,
-                                              _Converter(declared))
+                changes[name] = _exact_vector(_initial_by_mass(value, name, self.names, self.mass_names),
+                                              name, self.n, _Converter(declared))
         return dataclasses.replace(self, **changes)
 
     def with_forcing(self, forcing: Any) -> Scene:
         """A new scene with other external forces (``None`` removes them).
 
         ``forcing`` is a sequence with one entry per coordinate, or a mapping from mass
-        names or coordinate names to entries, missing ones 0. Entries are text in ``t``,
+        names or coordinate names to entries, missing ones 0 (a mass name first: masses
+        named ``x2``, ``x1`` in that order take ``{"x1": f}`` on the second mass). Entries are text in ``t``,
         numbers or SymPy expressions
         (see :func:`laplace_springs.model.forcing.parse_forcing`). The equivalent force
         of moving supports (``support_motion``) stays.
@@ -1161,10 +1173,8 @@ class Scene:
         >>> scene.with_forcing(["cos(3*t)"]).forcing
         Matrix([[cos(3*t)]])
         """
-        keys = self.mass_names or self.names
-        if isinstance(forcing, Mapping) and set(forcing) <= set(self.names):
-            keys = self.names  # coordinate names x1..xn work for every scene
-        values = None if forcing is None else _initial_by_mass(forcing, "forcing", keys)
+        values = None if forcing is None else _initial_by_mass(forcing, "forcing", self.names,
+                                                               self.mass_names)
         declared = declare_parameters(self.parameters, forcing)
         values = updated_entries(self.units, {"forcing": values}, declared)["forcing"]
         external = forcing_vector(values, self.n, declared)  # moving supports keep driving:
@@ -1272,8 +1282,9 @@ class Scene:
             :func:`laplace_springs.model.numbers.to_exact`).
         C, K : matrix-like, optional
             Damping and stiffness matrices; zero when omitted. Need not be symmetric.
-        x0, v0 : vector-like
-            Initial displacements and velocities: flat, one column or one row.
+        x0, v0 : vector-like or mapping
+            Initial displacements and velocities: flat, one column or one row, or a mapping
+            coordinate name -> value (missing ones 0).
         names : sequence of str, optional
             Coordinate names; ``("x1", ..., "xn")`` by default.
         title : str, optional
@@ -1325,7 +1336,7 @@ class Scene:
         >>> Scene.from_matrices(M=[[1, 0], [0, 0]], x0=[0, 0], v0=[0, 0])
         Traceback (most recent call last):
         ...
-        laplace_springs.model.errors.SceneError: the pencil λ²M + λC + K is singular: ...; coordinate 1 has no mass and no spring or dashpot acting on it
+        laplace_springs.model.errors.SceneError: the pencil λ²M + λC + K is singular: ...; coordinate x2 has zero mass and no spring or dashpot acting on it
         """
         shape = _matrix_shape(M, "M")  # sizes first: nothing is converted beyond the limits
         _check_coordinates("M", shape[0])
@@ -1338,13 +1349,16 @@ class Scene:
         n = mass.rows
         damping = _optional_matrix(C, "C", mass, "M", convert)
         stiffness = _optional_matrix(K, "K", mass, "M", convert)
+        coordinates = _default_names(n) if names is None else tuple(names)
+        x0, v0, forcing = (_initial_by_mass(value, entry, coordinates) if isinstance(value, Mapping)
+                           else value for value, entry in ((x0, "x0"), (v0, "v0"), (forcing, "forcing")))
         return cls(
             M=mass,
             C=damping,
             K=stiffness,
             x0=_exact_vector(x0, "x0", n, convert),
             v0=_exact_vector(v0, "v0", n, convert),
-            names=_default_names(n) if names is None else tuple(names),
+            names=coordinates,
             title=title,
             layout=layout,
             forcing=forcing_vector(forcing, n, declared),
@@ -1488,24 +1502,25 @@ class Scene:
         mass_names = tuple(mass_values)
         index = {name: i for i, name in enumerate(mass_names)}
         n = len(mass_names)
+        names = _default_names(n)
         diagonal = {(i, i): mass for i, mass in enumerate(mass_values.values()) if mass != 0}
         return cls(
             M=_from_entries(n, n, diagonal),
             C=_assemble(components, "dashpot", index),
             K=_assemble(components, "spring", index),
-            x0=_exact_vector(_initial_by_mass(x0, "x0", mass_names), "x0", n, convert),
-            v0=_exact_vector(_initial_by_mass(v0, "v0", mass_names), "v0", n, convert),
-            names=_default_names(n),
+            x0=_exact_vector(_initial_by_mass(x0, "x0", names, mass_names), "x0", n, convert),
+            v0=_exact_vector(_initial_by_mass(v0, "v0", names, mass_names), "v0", n, convert),
+            names=names,
             title=title,
             layout=layout,
             components=components,
             mass_names=mass_names,
             forcing=with_support_forcing(None if forcing is None else forcing_vector(
-                _initial_by_mass(forcing, "forcing", mass_names), n, declared),
+                _initial_by_mass(forcing, "forcing", names, mass_names), n, declared),
                 components, mass_names, motion),
             parameters=tuple(declared.values()),
             support_motion=motion,
-            sampled=sampled_entries(_initial_by_mass(forcing, "forcing", mass_names)),
+            sampled=sampled_entries(_initial_by_mass(forcing, "forcing", names, mass_names)),
             units=record,
         )
 

@@ -37,6 +37,7 @@ import sympy as sp
 
 from ..limits import limits
 from ..model.errors import SceneError
+from ..model.names import coordinate_index
 from ..model.scene import Scene
 from ..model.symbols import TIME
 from .chain import Chain, chain_of, math_label
@@ -105,11 +106,11 @@ def _chosen_masses(scene: Scene, masses: Sequence[Any] | None) -> list[int]:
         if n <= most:
             return list(range(n))
         return sorted({int(round(k * (n - 1) / (most - 1))) for k in range(most)})
-    names = list(scene.names) + list(scene.mass_names)
     chosen = []
     for item in masses:
-        if isinstance(item, str) and item in names:
-            index = names.index(item) % n
+        if isinstance(item, str) and item in (*scene.names, *scene.mass_names):
+            index = coordinate_index(item, "animate: masses", names=scene.names,
+                                     mass_names=scene.mass_names)  # a mass name first, as everywhere
         elif isinstance(item, (int, np.integer)) and 1 <= int(item) <= n:
             index = int(item) - 1
         else:

@@ -22,6 +22,7 @@ import sympy as sp
 
 from ..exact.resolvent import resolvent
 from ..model.errors import SceneError
+from ..model.names import coordinate_index
 from ..model.numbers import shown, to_exact
 from ..model.scene import Scene
 from ..model.supports import is_support, support_columns
@@ -339,8 +340,8 @@ def sweep_transmissibility(scene: Scene, values: Mapping[Any, Any], omegas: Any,
     w, single = _frequencies(omegas, P, "sweep_transmissibility")
     drive = stiff[:, :, None] + 1j * w[:, None, :] * damp[:, :, None]
     chosen = list(range(n)) if outputs is None else [
-        item if isinstance(item, int) else (scene.mass_names.index(item) if item in scene.mass_names
-                                            else scene.names.index(item))
+        item if isinstance(item, int) else coordinate_index(
+            item, "outputs", names=scene.names, mass_names=scene.mass_names)
         for item in outputs]
     amplitude = np.abs(_responses(M, C, K, drive, w))[:, chosen]
     return amplitude[..., 0] if single else amplitude

@@ -11,6 +11,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.errors import SceneError
+from ..model.names import coordinate_index
 from ..model.numbers import shown
 from ..model.scene import Scene
 from ..numeric.first_order import scene_cache
@@ -138,10 +139,9 @@ def _outputs(scene: Scene, outputs: Any) -> list[int]:
     for item in items:
         if isinstance(item, (int, np.integer)) and not isinstance(item, bool) and 0 <= item < scene.n:
             chosen.append(int(item))
-        elif isinstance(item, str) and item in scene.names:
-            chosen.append(scene.names.index(item))
-        elif isinstance(item, str) and item in scene.mass_names:
-            chosen.append(scene.mass_names.index(item))
+        elif isinstance(item, str) and item in (*scene.names, *scene.mass_names):
+            chosen.append(coordinate_index(item, "sweep: outputs", names=scene.names,
+                                           mass_names=scene.mass_names))  # a mass name first
         else:
             raise SceneError(f"sweep: outputs: {shown(item)} is not a coordinate; coordinates are "
                              f"{', '.join(scene.names)} (or indices 0..{scene.n - 1})")

@@ -136,7 +136,7 @@ def test_transmissibility_errors():
         transmissibility(chain, [1.0])
     with pytest.raises(SceneError, match="unknown support 'ceiling'; the scene's supports are wall_left"):
         transmissibility(chain, [1.0], support="ceiling")
-    with pytest.raises(SceneError, match="outputs: unknown coordinate 'm3'"):
+    with pytest.raises(SceneError, match="outputs: unknown mass or coordinate 'm3'"):
         transmissibility(chain, [1.0], support="wall_left", outputs=["m3"])
     with pytest.raises(SceneError, match="outputs: 2 is not a coordinate"):
         transmissibility(chain, [1.0], support="wall_left", outputs=[2])

@@ -335,7 +335,7 @@ def test_toml_accepts_a_massless_node():
         ({"masses": {"n": -1, "m": 1}, "springs": {"k": ("n", "m", 1)}},
          r"mass 'n' must be positive, got -1; 0 is allowed for a massless node"),
         ({"masses": {"n": 0, "m": 1}, "springs": {"k": ("m", "wall", 1)}},
-         r"pencil .* is singular.*coordinate 0 has no mass and no spring or dashpot"),
+         r"pencil .* is singular.*mass 'n' \(coordinate x1\) has zero mass and no spring or dashpot"),
         ({"masses": {"a": 0, "b": 0, "m": 1}, "springs": {"k": ("a", "b", 1), "k2": ("m", "wall", 1)}},
          r"pencil .* is singular.*motion along \[1, 1, 0\]"),
     ],
