@@ -1,25 +1,51 @@
-"""ls.sweep against a batched numpy.linalg.eig modal baseline, measured in the same run.
+"""ls.sweep against batched NumPy eigen-decompositions and a loop of ls.solve, measured in
+the same run.
 
-10^5 parameter sets of a two-mass scene (masses 1, springs k1 wall-m1 and k2 m1-m2, a
-dashpot c wall-m1) at 100 times. The baseline stacks the first-order matrices
-[[0, I], [-K, -C]], takes eig once for all sets, solves V a = z0 and sums the modes;
-it is accurate where the modes are well separated, so the agreement is measured on the
-sets whose eigenvector matrix is well conditioned (cond(V) < 1e3).
+Part 1 (the compiled route): 10^5 parameter sets of a two-mass scene (masses 1, springs
+k1 wall-m1 and k2 m1-m2, a dashpot c wall-m1) at 100 times. The baseline stacks the
+first-order matrices [[0, I], [-K, -C]], takes eig once for all sets, solves V a = z0 and
+sums the modes; it is accurate where the modes are well separated, so the agreement is
+measured on the sets whose eigenvector matrix is well conditioned (cond(V) < 1e3). Timed
+interleaved, best of two (the CPU may be shared).
 
-The two are timed interleaved, best of two runs each (the CPU may be shared).
+Part 2 (the batched route): 10^4 sets of a 50-mass chain (unit masses and springs, the
+first spring k and a dashpot c at the wall, x0 = e1) at 20 times on [0, 20]:
 
-    python benchmarks/bench_sweep.py [sets] [repeat]
+* ls.sweep on one worker (this process), with a bound on every value;
+* the best hand-written batched NumPy code: stacked first-order matrices, numpy.linalg.eig,
+  numpy.linalg.solve for the coefficients, one matmul for the modal sum, in chunks of 500
+  sets (no error estimate);
+* a loop of ls.solve(scene.subs(set)).evaluate(times) over the first 100 sets
+  (extrapolated to 10^4: it would take hours);
+* ls.sweep and the hand-written code on a Dask LocalCluster of 2 worker processes (one
+  thread each), ls.sweep streaming its values to a .npy store written by the workers.
+
+Each measurement runs in its own process, which reports its wall time and its peak
+resident memory (ru_maxrss); on the cluster, the client's and each worker's peak.
+
+    python benchmarks/bench_sweep.py [sets of part 1] [sets of part 2]
 """
 
 from __future__ import annotations
 
+import json
+import os
+import resource
+import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
 
 import laplace_springs as ls
 from laplace_springs.sweeps import sweep
+
+N_CHAIN = 50
+TIMES_CHAIN = np.linspace(0, 20, 20)
+
+
+# ----------------------------------------------------------------------------- part 1
 
 
 def baseline(k1: np.ndarray, k2: np.ndarray, c: np.ndarray, times: np.ndarray,
@@ -38,7 +64,7 @@ def baseline(k1: np.ndarray, k2: np.ndarray, c: np.ndarray, times: np.ndarray,
     return x, np.linalg.cond(V)
 
 
-def main(P: int = 100_000, repeat: int = 2) -> None:
+def part_one(P: int, repeat: int = 2) -> None:
     scene = ls.Scene.from_components(
         masses={"m1": 1, "m2": 1},
         springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2")},
@@ -59,17 +85,146 @@ def main(P: int = 100_000, repeat: int = 2) -> None:
     good = cond < 1e3
     scale = np.maximum(np.max(np.abs(result.values), axis=1, keepdims=True), 1.0)
     agree = np.max(np.abs(result.values - ref)[good] / scale[good])
-    print(f"{P:,} sets x {times.size} times, two-mass scene (k1, k2, c); best of {repeat}")
-    print(f"{'route':<34}{'time [s]':>10}")
-    print(f"{'batched numpy.linalg.eig (modal)':<34}{t_base:>10.2f}")
-    print(f"{'ls.sweep (exact, vectorised)':<34}{t_sweep:>10.2f}")
-    print(f"ratio sweep / eig baseline: {t_sweep / t_base:.2f}")
-    print(f"sets sent to the exact solver: {result.exact_sets.size} "
-          f"({100 * result.exact_sets.size / P:.2f} %); largest error estimate "
-          f"{np.max(result.set_error):.1e} of max(|x|, S0)")
-    print(f"agreement with the baseline where cond(V) < 1e3 ({good.mean():.1%} of sets): {agree:.1e}")
+    print(f"Part 1: {P:,} sets x {times.size} times, two-mass scene (k1, k2, c); best of {repeat}")
+    print(f"  {'route':<36}{'time [s]':>10}")
+    print(f"  {'batched numpy.linalg.eig (modal)':<36}{t_base:>10.2f}")
+    print(f"  {'ls.sweep (compiled, vectorised)':<36}{t_sweep:>10.2f}")
+    print(f"  ratio sweep / eig baseline: {t_sweep / t_base:.2f}")
+    print(f"  sets solved alone: {result.exact_sets.size} ({100 * result.exact_sets.size / P:.2f} %); "
+          f"largest bound {np.max(result.set_error):.1e} of max(|x|, S0)")
+    print(f"  agreement with the baseline where cond(V) < 1e3 ({good.mean():.1%} of sets): {agree:.1e}")
+
+
+# ----------------------------------------------------------------------------- part 2
+
+
+def chain() -> ls.Scene:
+    n = N_CHAIN
+    masses = {f"m{i}": 1 for i in range(n)}
+    springs = {"k0": ("wall", "m0", "k"), **{f"k{i}": (f"m{i-1}", f"m{i}", 1) for i in range(1, n)}}
+    return ls.Scene.from_components(masses=masses, springs=springs, dashpots={"c": ("wall", "m0", "c")},
+                                    x0=[1] + [0] * (n - 1), v0=[0] * n,
+                                    parameters={"k": "positive", "c": "nonnegative"})
+
+
+def chain_values(P: int) -> dict[str, np.ndarray]:
+    rng = np.random.default_rng(1)
+    return {"k": rng.uniform(0.5, 2, P), "c": rng.uniform(0.05, 1, P)}
+
+
+def handwritten(k: np.ndarray, c: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """The chain's x(t) (P, n, T) by batched eig, in chunks of 500 sets (no error estimate)."""
+    n = N_CHAIN
+    P = k.size
+    K0 = np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1)
+    K0[-1, -1] = 1.0
+    out = np.empty((P, n, times.size))
+    z0 = np.zeros(2 * n)
+    z0[0] = 1.0
+    for start in range(0, P, 500):
+        kk, cc = k[start:start + 500], c[start:start + 500]
+        B = kk.size
+        A = np.zeros((B, 2 * n, 2 * n))
+        A[:, np.arange(n), n + np.arange(n)] = 1.0
+        A[:, n:, :n] = -K0
+        A[:, n, 0] -= kk - 1.0  # K[0,0] = k + 1 (the wall spring k and the first unit spring)
+        A[:, n, n] = -cc
+        lam, V = np.linalg.eig(A)
+        a = np.linalg.solve(V, np.broadcast_to(z0, (B, 2 * n))[..., None])[..., 0]
+        out[start:start + B] = np.matmul(V[:, :n, :] * a[:, None, :],
+                                         np.exp(lam[:, :, None] * times)).real
+    return out
+
+
+def _measure(kind: str, P: int, folder: str) -> dict:
+    start = time.perf_counter()
+    extra: dict = {}
+    values = chain_values(P)
+    if kind == "sweep":
+        result = sweep(chain(), values, TIMES_CHAIN, return_error=True)
+        np.save(os.path.join(folder, "sweep.npy"), result.values)
+        extra = {"alone": int(result.exact_sets.size), "bound": float(np.max(result.set_error)),
+                 "route": result.route}
+    elif kind == "handwritten":
+        np.save(os.path.join(folder, "handwritten.npy"), handwritten(values["k"], values["c"], TIMES_CHAIN))
+    elif kind == "loop":
+        scene = chain()
+        count = min(P, 100)
+        out = np.empty((count, N_CHAIN, TIMES_CHAIN.size))
+        for b in range(count):
+            out[b] = ls.solve(scene.subs({"k": values["k"][b], "c": values["c"][b]})).evaluate(TIMES_CHAIN)
+        np.save(os.path.join(folder, "loop.npy"), out)
+        extra = {"sets": count}
+    else:  # the two Dask runs
+        import distributed
+
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+            client.run(lambda: None)
+            start = time.perf_counter()
+            if kind == "dask-sweep":
+                store = os.path.join(folder, "dask.npy")
+                result = sweep(chain(), values, TIMES_CHAIN, return_error=True, client=client, out=store)
+                extra = {"alone": int(result.exact_sets.size)}
+            else:
+                chunks = [(s, min(s + 500, P)) for s in range(0, P, 500)]
+                futures = client.map(lambda b: handwritten(values["k"][b[0]:b[1]], values["c"][b[0]:b[1]],
+                                                           TIMES_CHAIN), chunks)
+                out = np.empty((P, N_CHAIN, TIMES_CHAIN.size))
+                for (s, e), part in zip(chunks, client.gather(futures)):
+                    out[s:e] = part
+            seconds = time.perf_counter() - start
+            workers = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+            extra["worker_peak_mb"] = round(max(workers.values()) / 1024, 1)
+            return {"seconds": seconds, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                    **extra}
+    return {"seconds": time.perf_counter() - start,
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, **extra}
+
+
+def _run(kind: str, P: int, folder: str) -> dict:
+    output = subprocess.run([sys.executable, __file__, "--measure", kind, str(P), folder],
+                            capture_output=True, text=True, check=True).stdout
+    return json.loads(output.strip().splitlines()[-1])
+
+
+def part_two(P: int) -> None:
+    folder = tempfile.mkdtemp(prefix="bench_sweep_")
+    runs = {kind: _run(kind, P, folder) for kind in ("sweep", "handwritten", "loop", "dask-sweep",
+                                                     "dask-handwritten")}
+    ours = np.load(os.path.join(folder, "sweep.npy"))
+    hand = np.load(os.path.join(folder, "handwritten.npy"))
+    loop = np.load(os.path.join(folder, "loop.npy"))
+    dask = np.load(os.path.join(folder, "dask.npy"))
+    count = loop.shape[0]
+    loop_total = runs["loop"]["seconds"] * P / count
+    print(f"Part 2: {P:,} sets x {TIMES_CHAIN.size} times, {N_CHAIN}-mass chain (k, c at the wall); "
+          f"route {runs['sweep']['route']}")
+    print(f"  {'':<44}{'time [s]':>10}{'peak memory [MB]':>18}")
+    rows = [("ls.sweep, one worker (bounds on every value)", runs["sweep"]),
+            ("hand-written batched numpy.linalg.eig", runs["handwritten"]),
+            (f"loop of ls.solve ({count} sets, x {P // count})", {"seconds": loop_total,
+                                                                 "peak_mb": runs["loop"]["peak_mb"]}),
+            ("ls.sweep, 2 Dask workers (.npy store)", runs["dask-sweep"]),
+            ("hand-written, 2 Dask workers", runs["dask-handwritten"])]
+    for name, run in rows:
+        memory = f"{run['peak_mb']:.0f}"
+        if "worker_peak_mb" in run:
+            memory += f" (workers {run['worker_peak_mb']:.0f})"
+        print(f"  {name:<44}{run['seconds']:>10.1f}{memory:>18}")
+    print(f"  ratio ls.sweep / hand-written: one worker {runs['sweep']['seconds'] / runs['handwritten']['seconds']:.2f}, "
+          f"2 workers {runs['dask-sweep']['seconds'] / runs['dask-handwritten']['seconds']:.2f}; "
+          f"loop of ls.solve / ls.sweep: {loop_total / runs['sweep']['seconds']:.0f}")
+    print(f"  sets solved alone: {runs['sweep']['alone']}; largest bound {runs['sweep']['bound']:.1e} "
+          f"of max(|x|, S0)")
+    print(f"  |ls.sweep - hand-written| {np.max(np.abs(ours - hand)):.1e}; |ls.sweep - ls.solve| "
+          f"{np.max(np.abs(ours[:count] - loop)):.1e} (first {count} sets); Dask run identical: "
+          f"{bool(np.array_equal(ours, dask))}")
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 100_000,
-         int(sys.argv[2]) if len(sys.argv) > 2 else 2)
+    if len(sys.argv) > 1 and sys.argv[1] == "--measure":
+        print(json.dumps(_measure(sys.argv[2], int(sys.argv[3]), sys.argv[4])))
+    else:
+        part_one(int(sys.argv[1]) if len(sys.argv) > 1 else 100_000)
+        part_two(int(sys.argv[2]) if len(sys.argv) > 2 else 10_000)

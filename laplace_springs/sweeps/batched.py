@@ -244,8 +244,8 @@ def _products(structure: BatchedScene, d: _Data, V: np.ndarray) -> _Products:
     KV = structure.K.product((d.K[0], d.K[1]), V)
     CV = structure.C.product((d.C[0], d.C[1]), V)
     m_hi, m_lo = d.m[0][:, :, None], d.m[1][:, :, None]
-    MV = (*dd_mul_float(m_hi, m_lo, V.real), *dd_mul_float(m_hi, m_lo, V.imag))
-    return _Products(KV, CV, MV)  # type: ignore[arg-type]
+    real, imag = dd_mul_float(m_hi, m_lo, V.real), dd_mul_float(m_hi, m_lo, V.imag)
+    return _Products(KV, CV, (real[0], real[1], imag[0], imag[1]))
 
 
 def _pencil(products: _Products, lam: np.ndarray, dlam: np.ndarray | None = None) -> CDD:
@@ -410,18 +410,23 @@ def _modes(structure: BatchedScene, d: _Data, served: np.ndarray) -> _Modes:
 def _row_norm(groups: RowGroups, values: DD) -> np.ndarray:
     """max row sum of |A| (≥ ‖A‖₂ for a symmetric A)."""
     absolute = np.abs(values[0]) + values[2]
-    sums = np.zeros((absolute.shape[0], groups.n))
-    np.add.at(sums, (slice(None), groups.rows), absolute)
+    sums = _row_sums(absolute, groups.rows, groups.n)
     return np.max(sums, axis=1, initial=0.0) * (1 + 1e-12)
+
+
+def _row_sums(values: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
+    """Σ of the entries (P, count) by their row (or column) ``index``: (P, n)."""
+    out = np.zeros((values.shape[0], n))
+    for k, i in enumerate(index.tolist()):
+        out[:, i] += values[:, k]
+    return out
 
 
 def _two_norm(groups: RowGroups, values: DD) -> np.ndarray:
     """√(max row sum · max column sum) of |A| ≥ ‖A‖₂."""
     absolute = np.abs(values[0]) + values[2]
-    rows = np.zeros((absolute.shape[0], groups.n))
-    cols = np.zeros((absolute.shape[0], groups.n))
-    np.add.at(rows, (slice(None), groups.rows), absolute)
-    np.add.at(cols, (slice(None), groups.cols), absolute)
+    rows = _row_sums(absolute, groups.rows, groups.n)
+    cols = _row_sums(absolute, groups.cols, groups.n)
     return np.sqrt(np.max(rows, axis=1, initial=0.0) * np.max(cols, axis=1, initial=0.0)) * (1 + 1e-12)
 
 
@@ -496,9 +501,9 @@ def _mode_sums(c: np.ndarray, magnitude: np.ndarray, modes: _Modes, times: np.nd
     size = np.take_along_axis(magnitude, columns[:, None, :], axis=2) * weight[:, None, :]
     width = 2 * kept
     blocks = -(-width // _BLOCK)
-    left = np.zeros((P, n_out, blocks * _BLOCK))
-    left[:, :, :kept], left[:, :, kept:width] = picked.real, -picked.imag
-    left = left.reshape(P, n_out, blocks, _BLOCK).transpose(0, 2, 1, 3)  # (P, B, n_out, 8)
+    flat = np.zeros((P, n_out, blocks * _BLOCK))
+    flat[:, :, :kept], flat[:, :, kept:width] = picked.real, -picked.imag
+    left = flat.reshape(P, n_out, blocks, _BLOCK).transpose(0, 2, 1, 3)  # (P, B, n_out, 8)
     unit = (20 + 4 * order + 2 * (_BLOCK + int(np.ceil(np.log2(blocks))) + 2)) * U
     values = np.empty((P, n_out, times.size))
     rounding = np.empty((P, n_out, times.size))

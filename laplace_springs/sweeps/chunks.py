@@ -112,10 +112,9 @@ def evaluate_chunk(plan: SweepPlan, sets: ParameterSets, times: np.ndarray, *, o
                       roots.astype(complex))
     relative = _relative(values, error, floor)
     missed = ~(relative <= goal)
-    for b in range(len(sets)):
+    for b in np.flatnonzero(bad | np.any(missed, axis=1)).tolist():
         columns = np.arange(times.size) if bad[b] else np.flatnonzero(missed[b])
-        if columns.size:
-            _recompute(plan, sets, b, times, columns, outputs, order, goal, raise_errors, out, floor)
+        _recompute(plan, sets, b, times, columns, outputs, order, goal, raise_errors, out, floor)
     out.set_error = np.max(_relative(out.values, out.error, floor), axis=1, initial=0.0)
     return out
 
@@ -149,6 +148,9 @@ def _compiled_block(compiled: CompiledScene, rows: np.ndarray, times: np.ndarray
         floor = x0 + np.where(rho > 0, v0 / rho, v0)
         floor = floor * rho**order
     values, error = block.values, block.error
+    with np.errstate(invalid="ignore"):  # forced from rest (S₀ = 0): the motion's own size
+        overall = np.max(np.abs(values), axis=(1, 2), initial=0.0)
+    floor = np.where(floor > 0, floor, np.where(np.isfinite(overall), overall, 0.0))
     relative = _relative(values, error, floor)
     again = np.flatnonzero(~block.suspect & ~np.all(relative <= target, axis=1))
     if again.size:  # the tighter estimate (∂x/∂r_j summed before its modulus) for these sets

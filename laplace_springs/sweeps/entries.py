@@ -171,8 +171,10 @@ def _correction(value: Any, rounded: float) -> tuple[float, bool]:
         return 0.0, True
     if isinstance(value, (float, np.floating)):
         exact = Fraction(repr(float(value)))
-    elif isinstance(value, (int, np.integer, Fraction)):
-        exact = Fraction(value)
+    elif isinstance(value, (int, np.integer)):
+        exact = Fraction(int(value))
+    elif isinstance(value, Fraction):
+        exact = value
     elif isinstance(value, sp.Rational):
         exact = Fraction(int(value.p), int(value.q))
     else:

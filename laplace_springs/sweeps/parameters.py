@@ -137,7 +137,7 @@ def parameter_sets(names: tuple[str, ...], symbols: tuple[sp.Symbol, ...],
         raise SceneError(f"sweep: the value arrays must have one length (one entry per "
                          f"parameter set), got {listed}")
     P = sizes.pop() if sizes else 1
-    if P > limits().sweep_max_sets:
+    if limits().sweep_max_sets < P:
         raise LimitError(f"sweep: {P:,} parameter sets, more than Limits.sweep_max_sets = "
                          f"{limits().sweep_max_sets:,}; sweep them in parts (out= streams each "
                          "part to a store)")

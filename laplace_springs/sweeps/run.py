@@ -352,8 +352,9 @@ def sweep(scene: Scene, values: Mapping[Any, Any], times: Any, *, outputs: Any =
     bounds = chunk_bounds(plan, costs, len(chosen), grid_times.size, chunk=_chunk(chunk))
     report = _progress(progress)
     collect = _Collector(plan, P, shape, stores, keep, spec)
-    options = {"times": grid_times, "outputs": chosen, "order": derivative, "target": goal,
-               "on_error": on_error, "stores": stores, "quantities": spec, "keep": keep}
+    options: dict[str, Any] = {"times": grid_times, "outputs": chosen, "order": derivative,
+                               "target": goal, "on_error": on_error, "stores": stores,
+                               "quantities": spec, "keep": keep}
     if client is not None:
         run_on_client(client, plan, sets, bounds, options, collect, report)
     else:

@@ -48,8 +48,8 @@ class Store:
     def array(self, mode: str = "r+") -> Any:
         """The store as an array (a fresh memory map for ``"npy"``)."""
         if self.kind == "npy":
-            return np.memmap(self.path, dtype=np.float64, mode=mode, offset=self.offset,
-                             shape=self.shape)
+            return np.memmap(self.path, dtype=np.dtype(np.float64), mode=mode,  # type: ignore[call-overload]
+                             offset=self.offset, shape=self.shape)
         return self.target
 
     def write(self, start: int, values: np.ndarray) -> None:

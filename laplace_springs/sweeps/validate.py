@@ -27,19 +27,24 @@ def exact_check(scene: Scene, sets: ParameterSets, b: int) -> Scene:
         raise SceneError(f"sweep: set {b} ({sets.describe(b)}): {error}") from None
 
 
-def _signs(entries: SceneEntries, name: str, columns: list[int], sets: ParameterSets,
-           parts: list | None) -> tuple[np.ndarray, np.ndarray]:
-    """Values (P, k) of the chosen entries of ``name`` and whether each one's sign (or
-    its being zero) is certain."""
-    if parts is not None and entries.compiles(name):
-        hi, lo, err = entries.evaluate(name, parts, len(sets))
-        value = hi[:, columns] + lo[:, columns]
-        exact_zero = (hi[:, columns] == 0) & (err[:, columns] == 0)
-        return hi[:, columns], exact_zero | (np.abs(value) > 2 * err[:, columns])
+def _signs(entries: SceneEntries, name: str, columns: list[int], sets: ParameterSets
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Values (P, k) of the chosen entries of ``name`` and whether each one's sign (or its
+    being zero) is certain: float64 first, double-double for the sets float64 leaves in
+    doubt (an entry within 10⁻¹² of its size from 0)."""
     value = entries.floats(name, sets.rows)[:, columns]
-    with np.errstate(invalid="ignore"):  # a float64 sign within rounding is left to subs
+    with np.errstate(invalid="ignore"):
         scale = np.max(np.abs(value), axis=1, keepdims=True)
-        return value, np.abs(value) > 1e-12 * scale
+        certain = np.abs(value) > 1e-12 * scale
+    doubt = np.flatnonzero(~np.all(certain, axis=1))
+    if doubt.size and entries.compiles(name) and sets.names:
+        subset = sets.take(doubt)
+        hi, lo, err = entries.evaluate(name, subset.parts(), len(subset))
+        exact = hi[:, columns] + lo[:, columns]
+        zero = (hi[:, columns] == 0) & (err[:, columns] == 0)
+        value[doubt] = hi[:, columns]
+        certain[doubt] = zero | (np.abs(exact) > 2 * err[:, columns])
+    return value, certain
 
 
 def validate_sets(scene: Scene, entries: SceneEntries, sets: ParameterSets) -> None:
@@ -58,11 +63,10 @@ def validate_sets(scene: Scene, entries: SceneEntries, sets: ParameterSets) -> N
     ...
     laplace_springs.model.errors.SceneError: sweep: set 1 (m = -1.0): mass M[0,0] must be positive, got -1.0; 0 is allowed for a massless node
     """
-    parts = sets.parts() if sets.names else None
     uncertain = np.zeros(len(sets), dtype=bool)
     symbolic = [k for k, (_, _, value) in enumerate(entries.components) if value.free_symbols]
     if symbolic:
-        values, certain = _signs(entries, "components", symbolic, sets, parts)
+        values, certain = _signs(entries, "components", symbolic, sets)
         negative = (values < 0) & certain
         uncertain |= ~np.all(certain, axis=1)
         if negative.any():
@@ -75,7 +79,7 @@ def validate_sets(scene: Scene, entries: SceneEntries, sets: ParameterSets) -> N
     masses = [k for k, (i, j) in enumerate(pattern)
               if i == j and entries.expressions["M"][k].free_symbols]
     if masses:
-        values, certain = _signs(entries, "M", masses, sets, parts)
+        values, certain = _signs(entries, "M", masses, sets)
         negative = (values < 0) & certain
         if negative.any():
             b, k = (int(v) for v in np.argwhere(negative)[0])
@@ -86,8 +90,8 @@ def validate_sets(scene: Scene, entries: SceneEntries, sets: ParameterSets) -> N
         uncertain |= ~np.all(certain, axis=1)
     if not diagonal and any(e.free_symbols for e in entries.expressions["M"]):
         uncertain |= ~_clearly_positive_definite(entries, sets)
-    for b in np.flatnonzero(uncertain):
-        exact_check(scene, sets, int(b))
+    for index in np.flatnonzero(uncertain).tolist():
+        exact_check(scene, sets, index)
 
 
 def _clearly_positive_definite(entries: SceneEntries, sets: ParameterSets) -> np.ndarray:
