@@ -38,6 +38,7 @@ from ..sweeps.chunks import evaluate_rows
 from ..sweeps.compile import CompiledScene, compile_scene, parameter_rows
 from .content import plot_values
 from .knobs import Knob, knob_values, knobbed_scene
+from .page import nice_ticks
 
 __all__ = ["Explorer", "explore", "closed_form_latex"]
 
@@ -254,10 +255,10 @@ def _curves_svg(times: np.ndarray, positions: np.ndarray, names: Sequence[str],
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
              'font-family="sans-serif" font-size="11">',
              f'<rect x="{left}" y="{top}" width="{inner_w}" height="{inner_h}" fill="none" stroke="#444"/>']
-    for value in np.linspace(low, high, 5):
+    for value in nice_ticks(low, high):
         y = top + inner_h * (high - value) / (high - low)
         parts.append(f'<text x="{left - 5}" y="{y + 4:.1f}" text-anchor="end">{value:.3g}</text>')
-    for value in np.linspace(0.0, t_end, 6):
+    for value in nice_ticks(0.0, t_end):
         parts.append(f'<text x="{left + inner_w * value / t_end:.1f}" y="{height - bottom + 14}" '
                      f'text-anchor="middle">{value:.3g}</text>')
     parts.append(f'<text x="{left + inner_w / 2}" y="{height - 4}" text-anchor="middle">Time (s)</text>')

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..output.animation import animate
@@ -38,7 +39,7 @@ from .document import document_tex, write_document
 from .grid import SliderGrid, slider_grid
 from .mathjax import mathjax_config, mathjax_script
 
-__all__ = ["WorkedExample", "worked_example"]
+__all__ = ["WorkedExample", "worked_example", "nice_ticks"]
 
 #: Curve colours of the sliders' plot (matplotlib's default cycle, as in the PNG plots).
 COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
@@ -216,15 +217,21 @@ def _section_html(section: Section) -> str:
     return "\n".join(parts)
 
 
-def _nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
+def nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
+    """Round tick values (1, 2, 2.5 or 5 times a power of ten) spanning [low, high].
+
+    >>> nice_ticks(-0.204, 0.202)
+    [-0.2, -0.1, 0.0, 0.1, 0.2]
+    """
     span = high - low
     if not span > 0:
         return [low]
     raw = span / count
     power = 10 ** np.floor(np.log10(raw))
     step = next(m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw)
-    first = np.ceil(low / step) * step
-    return [float(v) for v in np.arange(first, high + 1e-9 * span, step)]
+    first = int(np.ceil(low / step))
+    last = int(np.floor(high / step + 1e-9))
+    return [float(round(k * step, 12)) for k in range(first, last + 1)]
 
 
 def _svg_plot(grid: SliderGrid) -> tuple[str, dict[str, float]]:
@@ -244,11 +251,11 @@ def _svg_plot(grid: SliderGrid) -> tuple[str, dict[str, float]]:
     parts = [f'<svg id="ls-plot" xmlns="http://www.w3.org/2000/svg" width="{_WIDTH}" height="{_HEIGHT}" '
              f'viewBox="0 0 {_WIDTH} {_HEIGHT}" font-family="sans-serif" font-size="11">',
              f'<rect x="{_LEFT}" y="{_TOP}" width="{inner_w}" height="{inner_h}" fill="none" stroke="#444"/>']
-    for value in _nice_ticks(low, high):
+    for value in nice_ticks(low, high):
         parts.append(f'<line x1="{_LEFT}" x2="{_LEFT + inner_w}" y1="{y(value):.1f}" y2="{y(value):.1f}" '
                      'stroke="#ddd"/>')
         parts.append(f'<text x="{_LEFT - 6}" y="{y(value) + 4:.1f}" text-anchor="end">{value:g}</text>')
-    for value in _nice_ticks(0.0, t_end):
+    for value in nice_ticks(0.0, t_end):
         parts.append(f'<text x="{x(value):.1f}" y="{_HEIGHT - _BOTTOM + 15}" text-anchor="middle">{value:g}</text>')
     parts.append(f'<text x="{_LEFT + inner_w / 2}" y="{_HEIGHT - 6}" text-anchor="middle">Time (s)</text>')
     parts.append(f'<text transform="translate(14,{_TOP + inner_h / 2}) rotate(-90)" '
@@ -314,8 +321,8 @@ def _sliders_html(example: WorkedExample) -> str:
             "values": grid.encoded()}
     listed = ", ".join(f"\\({html.escape(k.label)}\\)" for k in grid.knobs)
     text = (f"<p>x(t) for {len(grid.values)} values of {listed}, computed in advance by one parameter "
-            "sweep (each within the same accuracy contract as the solution above); the sliders pick "
-            "one of them, no Python needed.</p>")
+            f"sweep (each to {limits().explore_target:g} of the motion's size, far below a pixel); the "
+            "sliders pick one of them, no Python needed.</p>")
     payload = json.dumps(data).replace("</", "<\\/")
     return "\n".join([head, text, '<div class="sliders">', *rows, "</div>", svg,
                       f'<script type="application/json" id="ls-grid-data">{payload}</script>',
