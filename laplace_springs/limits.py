@@ -251,6 +251,13 @@ class Limits:
     #: solve forms. 12 cosines with distinct phases build and solve in 3.5 s (one mass),
     #: 16 in 13 s, 24 in 30 s.
     max_forcing_constants: int = 12
+    #: Most declared parameters of a scene ([parameters] in a scene file, parameters=...):
+    #: declaring costs about 3 µs each (10⁴ load in 0.3 s, 10⁶ took over 20 s), and no
+    #: symbolic solve uses more than a few dozen.
+    max_parameters: int = 10_000
+    #: Most samples of one sampled force history (ls.sampled, a CSV column): 16 bytes each.
+    #: One mass, 100 s of data: 10⁶ samples solve and evaluate in 12 s, 10⁷ in 62 s.
+    max_samples: int = 2_000_000
 
     # -- output: animations, worked-example pages, the explorer ----------------------------
     #: Most masses an animation draws; a larger scene animates a chosen subset (by default

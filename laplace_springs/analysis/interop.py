@@ -32,7 +32,7 @@ from flint import ctx, fmpq, fmpq_poly
 from ..exact.resolvent import resolvent
 from ..limits import limits
 from ..model.errors import SceneError
-from ..model.numbers import declare_parameters, to_exact
+from ..model.numbers import declare_parameters, shown, to_exact
 from ..model.scene import Scene
 from ..model.symbols import S, lam
 
@@ -179,14 +179,21 @@ def _sorted(values: np.ndarray) -> np.ndarray:
 
 
 def _rows(value: Any, name: str) -> list[list[Any]]:
-    """Nested rows of a matrix-like value (lists, a numpy array, a SymPy matrix)."""
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__") and not hasattr(value, "tolist"):
-        raise SceneError(f"{name} must be a matrix (nested sequences, an array or a SymPy matrix)")
-    rows = value.tolist() if hasattr(value, "tolist") else [list(row) for row in value]
-    if not isinstance(rows, list) or not all(isinstance(row, (list, tuple)) for row in rows):
-        raise SceneError(f"{name} must be two-dimensional")
+    """Nested rows of a matrix-like value (lists, a numpy array, a SymPy matrix), or a
+    SceneError naming the matrix and what is wrong with its shape."""
+    expected = f"{name} must be a matrix: rows of entries (nested lists, a 2-D array or a SymPy matrix)"
+    if isinstance(value, (str, bytes, Mapping)) or not (hasattr(value, "__iter__") or hasattr(value, "tolist")):
+        raise SceneError(f"{expected}, got {shown(value)}")
+    rows = value.tolist() if hasattr(value, "tolist") else list(value)
+    if not isinstance(rows, list):
+        raise SceneError(f"{expected}, got {shown(value)}")
+    for index, row in enumerate(rows):
+        if isinstance(row, (str, bytes)) or not isinstance(row, (list, tuple, Sequence)):
+            raise SceneError(f"{expected}; row {index} is {shown(row)}, not a row of entries "
+                             f"(a flat list is a vector: write [[...], [...]])")
     if len({len(row) for row in rows}) > 1:
-        raise SceneError(f"{name} has rows of different lengths")
+        lengths = [len(row) for row in rows]
+        raise SceneError(f"{name} has rows of different lengths: {shown(lengths)}")
     return [list(row) for row in rows]
 
 
@@ -260,6 +267,10 @@ def from_state_space(A: Any, B: Any = None, C: Any = None, D: Any = None, *,
     ...
     laplace_springs.model.errors.SceneError: B[0,0] = 1, expected 0: inputs must be forces on the masses, B = [[0], [M^-1]]; a general first-order system has no spring-mass form here
     """
+    given = getattr(A, "shape", None) or ((len(A),) if isinstance(A, Sequence) else ())
+    if given and int(given[0]) > 2 * limits().max_matrix_input_size:  # before reading any entry
+        raise SceneError(f"A has {int(given[0]):,} rows; at most {2 * limits().max_matrix_input_size} "
+                         "square is read entry by entry (Limits.max_matrix_input_size)")
     rows = _rows(A, "A")
     size = len(rows)
     if size == 0 or size % 2 or any(len(row) != size for row in rows):

@@ -811,11 +811,17 @@ def declare_parameters(parameters: object = None, *objects: object) -> dict[str,
     ...
     laplace_springs.model.errors.SceneError: 'omega' cannot be a parameter name: it is the driving frequency of ls.frequency_response (ls.omega); rename the parameter, e.g. 'omega_0'
     """
+    if isinstance(parameters, (Mapping, list, tuple)) and len(parameters) > limits().max_parameters:
+        raise SceneError(f"parameters: {len(parameters):,} declared, more than the limit "
+                         f"{limits().max_parameters:,} (Limits.max_parameters)")
     declared: dict[str, sympy.Symbol] = {}
     for symbol in _declarations(parameters):
         _add_parameter(declared, symbol)
     for symbol in sorted(_symbols_in(objects), key=lambda symbol: symbol.name):
         _add_parameter(declared, symbol)
+    if len(declared) > limits().max_parameters:
+        raise SceneError(f"parameters: {len(declared):,} named or found in the data, more than the "
+                         f"limit {limits().max_parameters:,} (Limits.max_parameters)")
     return declared
 
 

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import decimal
 import math
+import numbers
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,9 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from .errors import SceneError
+from ..limits import limits
+from .errors import LimitError, SceneError
 from .numbers import shown
-from .text_files import read_text_file
+from .text_files import checked_path, contained_path, read_text_file
 
 __all__ = ["KINDS", "Sampled", "sampled", "sampled_from_csv",
            "sampled_entries", "formula_part", "resolve_csv_entries"]
@@ -43,24 +46,93 @@ _CSV_KEYS = ("csv", "time", "value", "kind", "delimiter")
 
 
 def _array(values: Any, name: str) -> np.ndarray:
-    """A flat float64 array, or a SceneError naming the first bad entry."""
+    """A flat, finite float64 array of real numbers, or a SceneError naming the first bad
+    entry (a complex, huge, text or boolean value is never converted silently).
+
+    Arrays of integers and floats convert at once; other sequences entry by entry
+    (:func:`_real_number`). At most :attr:`~laplace_springs.limits.Limits.max_samples`
+    entries, checked before any is converted.
+    """
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
         raise SceneError(f"sampled {name} must be a sequence of numbers, got {shown(values)}")
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        for index, value in enumerate(values):
-            try:
-                float(value)
-            except (TypeError, ValueError):
-                raise SceneError(f"sampled {name}[{index}] = {shown(value)} is not a number") from None
-        raise SceneError(f"sampled {name} must be a flat sequence of numbers") from None
+    size = int(values.size) if isinstance(values, np.ndarray) else len(values)
+    if size > limits().max_samples:
+        raise LimitError(f"sampled {name} has {size:,} samples, more than the limit "
+                         f"{limits().max_samples:,} (Limits.max_samples); resample the history "
+                         "more coarsely, or split it into several scenes")
+    array = values if isinstance(values, np.ndarray) else _plain_array(values)
+    if array is None or array.dtype.kind not in "fiu":
+        array = np.array([_real_number(value, f"sampled {name}[{index}]")
+                          for index, value in enumerate(_flat(values, name))], dtype=float)
+    else:
+        array = np.array(array, dtype=float)  # a copy: the caller's array stays theirs
     if array.ndim != 1:
         raise SceneError(f"sampled {name} must be one-dimensional, got shape {array.shape}")
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         raise SceneError(f"sampled {name}[{int(bad[0])}] = {float(array[bad[0]])!r} is not finite")
     return array
+
+
+def _plain_array(values: Any) -> np.ndarray | None:
+    """``values`` as NumPy reads it when that is a numeric array, else None (ragged,
+    mixed or exotic entries go entry by entry)."""
+    try:
+        array = np.asarray(values)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    if array.dtype.kind not in "fiu" or any(isinstance(value, (bool, np.bool_)) for value in values):
+        return None  # NumPy would read True as 1
+    return array
+
+
+def _flat(values: Any, name: str) -> list[Any]:
+    """The entries of a one-dimensional sequence (a nested one is refused by its shape)."""
+    items = values.tolist() if isinstance(values, np.ndarray) else list(values)
+    if isinstance(values, np.ndarray) and values.ndim != 1:
+        raise SceneError(f"sampled {name} must be one-dimensional, got shape {values.shape}")
+    for index, item in enumerate(items):
+        if isinstance(item, (list, tuple, np.ndarray)):
+            raise SceneError(f"sampled {name} must be a flat sequence of numbers, but entry {index} "
+                             f"is {shown(item)}")
+    return items
+
+
+def _complex(value: Any, entry: str) -> Any:
+    """The real part of a number that is complex in form (Python, NumPy or SymPy) with a
+    zero imaginary part; a SceneError for a complex or non-numeric value."""
+    try:
+        number = complex(value)
+    except OverflowError:
+        raise SceneError(f"{entry} = {shown(value)} is beyond the float64 range (about 1.8e308)") from None
+    except (TypeError, ValueError):
+        raise SceneError(f"{entry} = {shown(value)} is not a number") from None
+    if number.imag != 0:
+        raise SceneError(f"{entry} = {shown(value)} is complex; samples must be real")
+    return number.real
+
+
+def _real_number(value: Any, entry: str) -> float:
+    """One sample as a float64: a real number within the float64 range (an int, a
+    Fraction, a Decimal, a NumPy or SymPy number), or a complex one whose imaginary part
+    is zero; anything else is a SceneError naming the entry."""
+    if isinstance(value, (bool, np.bool_)):
+        raise SceneError(f"{entry} = {value!r} is a boolean, not a number")
+    if isinstance(value, (str, bytes)):
+        raise SceneError(f"{entry} = {shown(value)} is not a number")
+    if not isinstance(value, (numbers.Real, decimal.Decimal)):
+        value = _complex(value, entry)
+    beyond = f"{entry} = {shown(value)} is beyond the float64 range (about 1.8e308)"
+    try:
+        number = float(value)
+    except OverflowError:
+        raise SceneError(beyond) from None
+    except (TypeError, ValueError):
+        raise SceneError(f"{entry} = {shown(value)} is not a real number") from None
+    if not math.isfinite(number):
+        finite = isinstance(value, decimal.Decimal) and value.is_finite() or isinstance(value, numbers.Rational)
+        raise SceneError(beyond if finite else f"{entry} = {shown(value)} is not finite")
+    return number
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,32 +258,64 @@ class Sampled:
         >>> Sampled.from_csv(folder / "force.csv", time="t", value="F")
         <Sampled linear: 3 samples on [0, 1] from 'force.csv'>
         """
-        path = Path(path)
+        path = checked_path(path, "CSV file")
+        _check_csv_options(time, value, kind, delimiter)
         text = _read_csv_text(path)
-        rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
-        numbered = [(line, row) for line, row in enumerate(rows, start=1)
-                    if row and any(cell.strip() for cell in row) and not row[0].lstrip().startswith("#")]
+        numbered = _csv_rows(text, delimiter, path.name)
         if not numbered:
             raise SceneError(f"{path.name}: the CSV file is empty")
         header = [cell.strip() for cell in numbered[0][1]]
         columns = [_column(header, time, "time", path.name)]
         if value is None:
-            others = [name for name in header if name != time]
+            others = [index for index, name in enumerate(header) if name != time]
             if len(others) != 1:
-                raise SceneError(f"{path.name}: say which column is the force (value=...); "
-                                 f"columns: {', '.join(header)}")
-            value = others[0]
+                raise SceneError(f"{path.name}: say which column is the force (value=...): the "
+                                 f"header (line {numbered[0][0]}) has {len(header)} columns")
+            value = header[others[0]]
         columns.append(_column(header, value, "value", path.name))
+        if len(numbered) - 1 > limits().max_samples:
+            raise LimitError(f"{path.name}: {len(numbered) - 1:,} rows of samples, more than the "
+                             f"limit {limits().max_samples:,} (Limits.max_samples); resample the "
+                             "history more coarsely")
         data = np.empty((len(numbered) - 1, 2))
+        names = (time, value)
         for r, (line, row) in enumerate(numbered[1:]):
             for c, index in enumerate(columns):
                 if index >= len(row):
-                    raise SceneError(f"{path.name}, line {line}: no {header[index]!r} entry")
-                data[r, c] = _number(row[index], f"{path.name}, line {line}, column {header[index]!r}")
+                    raise SceneError(f"{path.name}, line {line}: no {names[c]!r} entry")
+                data[r, c] = _number(row[index], f"{path.name}, line {line}, column {names[c]!r}")
         try:
             return cls(data[:, 0], data[:, 1], kind, path.name)
         except SceneError as exc:
             raise SceneError(f"{path.name}: {exc}") from None
+
+
+def _check_csv_options(time: object, value: object, kind: object, delimiter: object) -> None:
+    """The options of :meth:`Sampled.from_csv`, checked before the file is read."""
+    for option, given in (("time", time), ("value", value)):
+        if given is not None and not isinstance(given, str):
+            raise SceneError(f"sampled CSV: {option} must be a column name (text), got {shown(given)}")
+    if kind not in KINDS:
+        raise SceneError(f"sampled kind must be one of {', '.join(KINDS)}, got {shown(kind)}")
+    if not (isinstance(delimiter, str) and len(delimiter) == 1 and delimiter not in "\"\r\n"):
+        raise SceneError(f"sampled CSV: delimiter must be one character (',', ';' or a tab), "
+                         f"got {shown(delimiter)}")
+
+
+def _csv_rows(text: str, delimiter: str, name: str) -> list[tuple[int, list[str]]]:
+    """The (line number, cells) of the rows that are not blank or ``#`` comments."""
+    reader = csv.reader(text.splitlines(), delimiter=delimiter)
+    rows: list[tuple[int, list[str]]] = []
+    try:
+        for row in reader:
+            if row and any(cell.strip() for cell in row) and not row[0].lstrip().startswith("#"):
+                rows.append((reader.line_num, row))
+    except csv.Error as exc:
+        limit = csv.field_size_limit()
+        why = (f"a cell has more than {limit:,} characters" if "field larger" in str(exc)
+               else f"it cannot be read as CSV ({exc})")
+        raise SceneError(f"{name}, line {max(reader.line_num, 1)}: {why}") from None
+    return rows
 
 
 def _read_csv_text(path: Path) -> str:
@@ -219,19 +323,23 @@ def _read_csv_text(path: Path) -> str:
 
 
 def _column(header: list[str], name: str, role: str, where: str) -> int:
+    """The index of column ``name``; the message does not quote the header (the file may
+    not be a CSV file at all, and its contents are not for an error message)."""
     if name not in header:
-        raise SceneError(f"{where}: no column {name!r} for the {role}; columns: {', '.join(header)}")
+        raise SceneError(f"{where}: no column {name!r} for the {role} in the header row "
+                         f"({len(header)} columns)")
     return header.index(name)
 
 
 def _number(cell: str, where: str) -> float:
     text = cell.strip()
+    shown_cell = repr(text) if len(text) <= 40 else repr(text[:40]) + "..."  # the offending cell only
     try:
         value = float(text)  # decimal text only: float() evaluates nothing
     except ValueError:
-        raise SceneError(f"{where}: {text!r} is not a number") from None
+        raise SceneError(f"{where}: {shown_cell} is not a number") from None
     if not math.isfinite(value):
-        raise SceneError(f"{where}: {text!r} is not finite")
+        raise SceneError(f"{where}: {shown_cell} is not finite")
     return value
 
 
@@ -316,23 +424,35 @@ def formula_part(scene: Any) -> Any:
     return dataclasses.replace(scene, sampled=None)
 
 
-def resolve_csv_entries(forcing: Any, base: str | os.PathLike[str] | None) -> Any:
+def resolve_csv_entries(forcing: Any, base: str | os.PathLike[str] | None, *,
+                        allow_outside: bool = False) -> Any:
     """A scene file's forcing with ``{csv = ..., time = ..., value = ..., kind = ...}``
-    tables replaced by :class:`Sampled` entries (paths relative to ``base``).
+    tables replaced by :class:`Sampled` entries.
+
+    A path is relative to ``base`` (the scene file's folder; the current directory when
+    None) and must stay inside it: absolute paths and paths leading out of it (``../``, a
+    symbolic link to elsewhere) are refused unless ``allow_outside`` (see
+    :func:`~laplace_springs.model.text_files.contained_path`), so that a scene file from
+    someone else cannot make the toolkit read files beside it.
 
     Examples
     --------
     >>> resolve_csv_entries({"m1": "cos(t)"}, None)
     {'m1': 'cos(t)'}
+    >>> resolve_csv_entries({"m1": {"csv": "/etc/passwd"}}, "/scenes")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: forcing.m1.csv: '/etc/passwd' is an absolute path; a scene file may only name files in its own folder (...)
     """
     if isinstance(forcing, dict):
-        return {key: _csv_entry(value, f"forcing.{key}", base) for key, value in forcing.items()}
+        return {key: _csv_entry(value, f"forcing.{key}", base, allow_outside)
+                for key, value in forcing.items()}
     if isinstance(forcing, list):
-        return [_csv_entry(value, f"forcing[{i}]", base) for i, value in enumerate(forcing)]
+        return [_csv_entry(value, f"forcing[{i}]", base, allow_outside) for i, value in enumerate(forcing)]
     return forcing
 
 
-def _csv_entry(value: Any, entry: str, base: str | os.PathLike[str] | None) -> Any:
+def _csv_entry(value: Any, entry: str, base: str | os.PathLike[str] | None, allow_outside: bool) -> Any:
     if not isinstance(value, dict):
         return value
     unknown = [key for key in value if key not in _CSV_KEYS]
@@ -343,9 +463,7 @@ def _csv_entry(value: Any, entry: str, base: str | os.PathLike[str] | None) -> A
     for key in _CSV_KEYS:
         if key in value and not isinstance(value[key], str):
             raise SceneError(f"{entry}.{key} must be a string, got {shown(value[key])}")
-    path = Path(value["csv"])
-    if base is not None and not path.is_absolute():
-        path = Path(base) / path
+    path = contained_path(value["csv"], base, f"{entry}.csv", allow_outside)
     try:
         return Sampled.from_csv(path, value.get("time", "t"), value.get("value"),
                                 value.get("kind", "linear"), delimiter=value.get("delimiter", ","))

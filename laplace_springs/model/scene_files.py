@@ -59,9 +59,16 @@ or entry and the limit:
 * :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` (500): n of the n x n
   arrays of ``[matrices]`` and ``[normalized]`` (n² entries each); describe larger
   scenes by their masses, springs and dashpots;
+* :attr:`~laplace_springs.limits.Limits.max_parameters` (10,000): names in
+  ``[parameters]``;
 * nesting of TOML arrays and tables as deep as the TOML reader takes (a few hundred).
 
-The counts of ``[masses]``, ``[springs]`` and ``[dashpots]`` and the first row of a
+Files. Only a regular file is read (a FIFO, a device or a directory is refused before
+it is opened), and the CSV files a scene file names must lie in its folder
+(``load_scene(path, allow_outside=True)`` for a scene file you trust); see
+:mod:`laplace_springs.model.text_files`.
+
+The counts of ``[masses]``, ``[springs]``, ``[dashpots]`` and ``[parameters]`` and the first row of a
 matrix are read from the text before it is parsed, so an oversized file is refused in
 a fraction of a second; the counts are checked again, exactly, on the parsed tables.
 Measured on one core (benchmarks/bench_loading.py): a chain of 10,000 masses with
@@ -85,7 +92,7 @@ from .errors import SceneError
 from .numbers import shown
 from .sampled import resolve_csv_entries
 from .scene import Scene
-from .text_files import read_text_file
+from .text_files import checked_path, read_text_file
 
 __all__ = ["bundled_scenes", "load_scene", "scene_from_toml_text"]
 
@@ -145,7 +152,8 @@ def _form_of(data: Mapping[str, Any]) -> str:
     return form
 
 
-def _scene_from_data(data: Mapping[str, Any], base: str | os.PathLike[str] | None = None) -> Scene:
+def _scene_from_data(data: Mapping[str, Any], base: str | os.PathLike[str] | None = None,
+                     allow_outside: bool = False) -> Scene:
     scene = _unforced_scene(data)
     forcing = data.get("forcing")
     if forcing is None:
@@ -156,7 +164,8 @@ def _scene_from_data(data: Mapping[str, Any], base: str | os.PathLike[str] | Non
     if not isinstance(forcing, (list, dict)):
         raise SceneError(f"'forcing' must be an array (one entry per coordinate) or a table "
                          f"(mass name = expression), got {shown(forcing)}")
-    return scene.with_forcing(resolve_csv_entries(forcing, base))  # {csv = ...}: model/sampled.py
+    return scene.with_forcing(resolve_csv_entries(  # {csv = ...}: model/sampled.py
+        forcing, base, allow_outside=allow_outside))
 
 
 def _parameters(data: Mapping[str, Any]) -> dict[str, Any]:
@@ -233,13 +242,14 @@ def _names(data: Mapping[str, Any]) -> list[str] | None:
 
 
 def scene_from_toml_text(text: str, source: str = "<string>", *,
-                         base: str | os.PathLike[str] | None = None) -> Scene:
+                         base: str | os.PathLike[str] | None = None,
+                         allow_outside: bool = False) -> Scene:
     """A scene from the text of a TOML scene file.
 
     A forcing entry may point at a CSV file of samples, ``m1 = { csv = "force.csv",
     time = "t", value = "F", kind = "linear" }`` (see :mod:`laplace_springs.model.sampled`);
     a relative path is taken relative to ``base`` (the scene file's folder for
-    :func:`load_scene`; the current directory when None).
+    :func:`load_scene`; the current directory when None) and must stay inside it.
 
     Parameters
     ----------
@@ -247,6 +257,12 @@ def scene_from_toml_text(text: str, source: str = "<string>", *,
         The TOML text (see the module documentation for the format).
     source : str, optional
         Where the text comes from, for error messages (a file name).
+    base : path-like, optional
+        The folder CSV paths are relative to.
+    allow_outside : bool, optional
+        Let CSV paths be absolute or lead out of ``base`` (``../``): only for a scene file
+        you trust. By default such a path is a SceneError, so that a scene file from
+        someone else cannot make the toolkit read (or quote) files outside its folder.
 
     Returns
     -------
@@ -278,6 +294,8 @@ def scene_from_toml_text(text: str, source: str = "<string>", *,
     ...
     laplace_springs.model.errors.SceneError: typo.toml: unknown key 'titel' at the top level; allowed keys: ...
     """
+    if not isinstance(text, str):
+        raise SceneError(f"{source}: expected the text of a scene file, got {shown(text)}")
     try:
         _check_text_size(text)
         _check_counts(text)
@@ -291,7 +309,7 @@ def scene_from_toml_text(text: str, source: str = "<string>", *,
         raise SceneError(f"{source}: malformed TOML: arrays or tables nested too deeply for "
                          "the TOML reader") from None
     try:
-        return _scene_from_data(data, base)
+        return _scene_from_data(data, base, allow_outside)
     except SceneError as exc:
         raise SceneError(f"{source}: {exc}") from None
 
@@ -327,6 +345,9 @@ def bundled_scenes() -> dict[str, str]:
 def _looks_like_path(name_or_path: str | os.PathLike[str]) -> bool:
     if isinstance(name_or_path, os.PathLike):
         return True
+    if not isinstance(name_or_path, str):
+        raise SceneError(f"load_scene: expected a bundled scene name or the path of a .toml file "
+                         f"(text or a pathlib.Path), got {shown(name_or_path)}")
     return name_or_path.endswith(".toml") or "/" in name_or_path or os.sep in name_or_path
 
 
@@ -368,6 +389,10 @@ def _check_counts(text: str) -> None:
     if masses > limits().max_coordinates:
         raise SceneError(f"[masses]: {masses:,} masses, more than the limit {limits().max_coordinates:,} "
                          "(Limits.max_coordinates)")
+    parameters = counts.get("parameters", 0)
+    if parameters > limits().max_parameters:
+        raise SceneError(f"[parameters]: {parameters:,} parameters, more than the limit "
+                         f"{limits().max_parameters:,} (Limits.max_parameters)")
     components = counts.get("springs", 0) + counts.get("dashpots", 0)
     if components > limits().max_components:
         raise SceneError(f"[springs] and [dashpots]: {components:,} components, more than the limit "
@@ -386,7 +411,7 @@ def _check_counts(text: str) -> None:
                 "its masses, springs and dashpots ([masses], [springs], [dashpots])")
 
 
-def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
+def load_scene(name_or_path: str | os.PathLike[str], *, allow_outside: bool = False) -> Scene:
     """Load a bundled scene by name, or a scene file by path.
 
     Parameters
@@ -394,7 +419,11 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
     name_or_path : str or os.PathLike
         A bundled scene name (see :func:`bundled_scenes`), or the path of a
         TOML scene file (a path-like object, or text ending in ``.toml`` or
-        containing a path separator).
+        containing a path separator). Only a regular file is read: a FIFO, a device
+        or a directory is refused before it is opened.
+    allow_outside : bool, optional
+        Let the CSV files the scene file names lie outside its folder (absolute paths,
+        ``../``); by default they are refused (see :func:`scene_from_toml_text`).
 
     Returns
     -------
@@ -419,8 +448,9 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
     laplace_springs.model.errors.SceneError: unknown scene 'no-such-scene'; bundled scenes: example5-in-units, three-dashpots, ...
     """
     if _looks_like_path(name_or_path):
-        path = Path(name_or_path)
-        return scene_from_toml_text(_read_path(path), source=str(path), base=path.parent)
+        path = checked_path(name_or_path, "load_scene")
+        return scene_from_toml_text(_read_path(path), source=str(path), base=path.parent,
+                                    allow_outside=allow_outside)
     files = _bundled_files()
     if name_or_path not in files:
         raise SceneError(

@@ -42,6 +42,7 @@ import sympy as sp
 
 from ..kernels.first_order import massless_nodes
 from .errors import SceneError
+from .names import describe_coordinate
 
 if TYPE_CHECKING:
     import control
@@ -159,17 +160,16 @@ def state_space(scene: SceneMatrices) -> tuple[Any, Any, Any, Any]:
     ...                                 K=[[2, -1], [-1, 1]], x0=[0, 0], v0=[0, 0]))
     Traceback (most recent call last):
     ...
-    laplace_springs.model.errors.SceneError: state_space: coordinate x2 has no mass (massless node); M is singular, so the scene has only a descriptor form E y' = A y + B u, which is not supported (give every coordinate a mass)
+    laplace_springs.model.errors.SceneError: state_space: coordinate x2 has zero mass (massless node); M is singular, so the scene has only a descriptor form E y' = A y + B u, which is not supported (give every coordinate a mass)
     """
     n = scene.n
     massless = _massless(scene)
     if massless:
-        names = [f"{scene.names[i]} (node {scene.mass_names[i]!r})" if scene.mass_names else scene.names[i]
-                 for i in massless]
+        names = [describe_coordinate(i, names=scene.names, mass_names=scene.mass_names) for i in massless]
         listed = ", ".join(names[:_LISTED]) + (f", ... ({len(names)} in all)" if len(names) > _LISTED else "")
         plural = "s" if len(names) > 1 else ""
         verb = "have" if len(names) > 1 else "has"
-        raise _descriptor_error(scene, f"coordinate{plural} {listed} {verb} no mass (massless node{plural})")
+        raise _descriptor_error(scene, f"{listed} {verb} zero mass (massless node{plural})")
     try:
         stiffness, damping = scene.normalized()
     except SceneError as error:
