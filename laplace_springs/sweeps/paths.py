@@ -157,15 +157,15 @@ def set_costs(plan: SweepPlan, sets: ParameterSets, times: np.ndarray) -> np.nda
 
 
 def _set_memory(plan: SweepPlan, outputs: int, T: int) -> float:
-    """Bytes one set holds while its chunk is evaluated."""
+    """Bytes one set takes in a chunk's largest array (Limits.chunk_bytes bounds that)."""
     n = plan.scene.n
     if plan.route == "compiled":
         assert plan.compiled is not None
-        return 16.0 * max(plan.compiled.degree, 1) * max(T, 1) * max(n, 1) * 2
+        return 16.0 * max(plan.compiled.degree, 1) * max(T, 1) * max(n, 1)
     if plan.route == "batched":
         assert plan.batched is not None
         width = plan.batched.width
-        return 8.0 * (12 * n * width * 2 * n + 20 * (2 * n) ** 2 + 8 * outputs * T)
+        return 16.0 * max(n * (width + 1) * 2 * n, 4 * (2 * n) ** 2, 4 * outputs * T)
     return 8.0 * (4 * n * T) + 1e6
 
 
