@@ -47,6 +47,7 @@ from ..model.errors import InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
 from .domains import field_polys
+from .rational import from_poly, rational_partial_fractions, to_poly
 from .root_sums import Condition, SumOverRoots, root_sum_weights
 
 __all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
@@ -414,6 +415,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
         factors = [(f.set_domain(field), m) for f, m in factors]
         denominator = denominator.set_domain(field)
     numerators = [N.set_domain(field) for N in numerators]
+    if field.is_QQ:  # residues in python-flint, the same polynomials
+        return _rational_decompose(numerators, denominator, factors, cancelled)
     quotients = [N.div(denominator) for N in numerators]
     groups_per: list[list[PoleGroup]] = [[] for _ in numerators]
     for index, (q, m) in enumerate(factors):
@@ -436,6 +439,27 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
                 target.append(group)
     return [PartialFractions(s, quotient, tuple(groups))
             for (quotient, _), groups in zip(quotients, groups_per)]
+
+
+def _rational_decompose(numerators: list[sp.Poly], denominator: sp.Poly,
+                        factors: list[tuple[sp.Poly, int]], cancelled: set[int]) -> list[PartialFractions]:
+    """:func:`decompose` over ℚ by :func:`~laplace_springs.exact.rational.rational_partial_fractions`
+    (residues reduced modulo each factor in python-flint), the factors in SymPy's order."""
+    s = denominator.gen
+    flint_numerators = [from_poly(N) for N in numerators]
+    flint_factors = [(from_poly(q), m) for q, m in factors]
+    quotients, groups = rational_partial_fractions(flint_numerators, from_poly(denominator), flint_factors)
+    out = []
+    for i, quotient in enumerate(quotients):
+        found = []
+        for index, ((q, m), group) in enumerate(zip(factors, groups)):
+            if index in cancelled:
+                continue
+            pole = PoleGroup(q, m, tuple(to_poly(h, s) for h in group.residues[i]))
+            if pole.order:
+                found.append(pole)
+        out.append(PartialFractions(s, to_poly(quotient, s), tuple(found)))
+    return out
 
 
 def partial_fractions(F: sp.Expr | str, s: sp.Symbol, *, closed_form: bool = False,

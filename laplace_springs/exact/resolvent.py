@@ -12,7 +12,7 @@ adjugate over ℚ[λ] or ℤ[params][λ]): no floats for exact input.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import sympy as sp
@@ -20,6 +20,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..model.scene import Scene
 from ..model.symbols import lam
+from .rational import initial_vector, rational_adjugate, rational_pencil, solve_at_integers, to_poly
 
 __all__ = ["lam", "Resolvent", "resolvent"]
 
@@ -39,16 +40,30 @@ class Resolvent:
         The scene it belongs to.
     determinant : sympy.Poly
         Δ(λ) = det(λ²M + λC + K), in the variable :data:`lam`.
-    adjugate : sympy.ImmutableMatrix
-        adj(λ²M + λC + K), polynomial entries in λ.
     numerators : tuple of sympy.Poly
         N_i(λ) with X_i(λ) = N_i(λ)/Δ(λ), i.e. adj(λ)·[M(λx0 + v0) + C x0].
+    adjugate : sympy.ImmutableMatrix
+        adj(λ²M + λC + K), polynomial entries in λ (built on first use for a rational
+        scene, whose Δ and N_i come without it).
     """
 
     scene: Scene
     determinant: sp.Poly
-    adjugate: sp.ImmutableMatrix
     numerators: tuple[sp.Poly, ...]
+    known_adjugate: sp.ImmutableMatrix | None = field(default=None, repr=False)
+
+    @cached_property
+    def adjugate(self) -> sp.ImmutableMatrix:
+        """adj(λ²M + λC + K), polynomial entries in λ."""
+        if self.known_adjugate is not None:
+            return self.known_adjugate
+        pencil = rational_pencil(self.scene)
+        entries = rational_adjugate(pencil) if pencil is not None else None
+        if entries is not None:
+            return sp.ImmutableMatrix([[to_poly(e, lam, domain=None).as_expr() for e in row]
+                                       for row in entries])
+        adjugate, _ = _adjugate_and_determinant(sp.Matrix(self.pencil()))
+        return sp.ImmutableMatrix(adjugate.applyfunc(sp.expand))
 
     def __repr__(self) -> str:
         """``Resolvent(2 coordinates, Δ(λ) = 25λ⁴ + ...)``: the scaled Δ(λ), shortened if long.
@@ -150,10 +165,27 @@ def resolvent(scene: Scene) -> Resolvent:
     >>> R.normalized()[0, 0]
     (25*lambda**2 + 5*lambda + 50)/(25*lambda**4 + 10*lambda**3 + 126*lambda**2 + 25*lambda + 100)
     """
+    fast = _rational_resolvent(scene)
+    if fast is not None:
+        return fast
     P = lam**2 * scene.M + lam * scene.C + scene.K
     adjugate, det = _adjugate_and_determinant(sp.Matrix(P))
     adjugate = adjugate.applyfunc(sp.expand)
     determinant = _poly(sp.expand(det))
     rhs = scene.M * (lam * scene.x0 + scene.v0) + scene.C * scene.x0
     numerators = tuple(_poly(sp.expand(e)) for e in adjugate * rhs)
-    return Resolvent(scene, determinant, sp.ImmutableMatrix(adjugate), numerators)
+    return Resolvent(scene, determinant, numerators, sp.ImmutableMatrix(adjugate))
+
+
+def _rational_resolvent(scene: Scene) -> Resolvent | None:
+    """Δ and the N_i of a scene with rational M, C, K, x0, v0 by python-flint (solves at
+    integer λ and interpolation, :mod:`laplace_springs.exact.rational`), the adjugate
+    left for later; None for any other scene (or Δ ≡ 0)."""
+    pencil = rational_pencil(scene)
+    r = initial_vector(scene, pencil) if pencil is not None else None
+    found = solve_at_integers(pencil, [r]) if pencil is not None and r is not None else None
+    if found is None:
+        return None
+    delta, (numerators,) = found
+    return Resolvent(scene, to_poly(delta, lam, domain=None),
+                     tuple(to_poly(N, lam, domain=None) for N in numerators))

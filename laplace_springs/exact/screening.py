@@ -42,38 +42,12 @@ from ..model.forcing import input_transform
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
+from .rational import RationalPencil, fmpq_of, initial_vector, rational_pencil, solve_at_integers
 
 __all__ = ["screen_scene", "exact_refusal"]
 
 
-_Pencil = tuple[flint.fmpq_mat, flint.fmpq_mat, flint.fmpq_mat]
 _Vector = list[flint.fmpq_poly]
-
-
-def _fmpq(value: sp.Expr) -> flint.fmpq | None:
-    """A SymPy Rational as fmpq; None for anything else (irrational, zoo, symbolic)."""
-    if not value.is_Rational:
-        return None
-    return flint.fmpq(int(value.p), int(value.q))
-
-
-def _matrix(matrix: sp.MatrixBase, point: dict) -> flint.fmpq_mat | None:
-    """A SymPy matrix at ``point`` as an fmpq_mat; None if some entry is not rational."""
-    entries = []
-    for e in matrix:
-        value = _fmpq(e.xreplace(point) if point else e)
-        if value is None:
-            return None
-        entries.append(value)
-    return flint.fmpq_mat(matrix.rows, matrix.cols, entries)
-
-
-def _pencil(scene: Scene, point: dict) -> _Pencil | None:
-    """(M, C, K) at ``point`` (None if some entry is not rational there)."""
-    M, C, K = (_matrix(m, point) for m in (scene.M, scene.C, scene.K))
-    if M is None or C is None or K is None:
-        return None
-    return M, C, K
 
 
 def _rational(expr: sp.Expr, point: dict) -> tuple[flint.fmpq_poly, flint.fmpq_poly] | None:
@@ -87,7 +61,7 @@ def _rational(expr: sp.Expr, point: dict) -> tuple[flint.fmpq_poly, flint.fmpq_p
             return None
         coeffs = []
         for c in reversed(poly.all_coeffs()):
-            value = _fmpq(c)
+            value = fmpq_of(c)
             if value is None:
                 return None
             coeffs.append(value)
@@ -97,7 +71,7 @@ def _rational(expr: sp.Expr, point: dict) -> tuple[flint.fmpq_poly, flint.fmpq_p
     return polys[0], polys[1]
 
 
-def _right_hand_sides(scene: Scene, pencil: _Pencil, point: dict) -> list[_Vector] | None:
+def _right_hand_sides(scene: Scene, pencil: RationalPencil, point: dict) -> list[_Vector] | None:
     """The vectors w with X = adj(λ)·w/(Δ·E) for each piece (one per delay), at ``point``.
 
     Free scene: w = r(λ) = M(λ x0 + v0) + C x0. Forced: per delay τ, w = E·(F_τ + [τ = 0] r)
@@ -105,12 +79,9 @@ def _right_hand_sides(scene: Scene, pencil: _Pencil, point: dict) -> list[_Vecto
     rational there, or E has an irreducible factor of degree ≥ 3 (which no supported
     input gives: the refusals below rely on it).
     """
-    M, C, _ = pencil
-    x0, v0 = _matrix(scene.x0, point), _matrix(scene.v0, point)
-    if x0 is None or v0 is None:
+    free = initial_vector(scene, pencil, point)
+    if free is None:
         return None
-    slope, offset = M * x0, M * v0 + C * x0
-    free = [flint.fmpq_poly([offset[i, 0], slope[i, 0]]) for i in range(scene.n)]
     if not scene.is_forced:
         return [free]
     assert scene.forcing is not None
@@ -135,54 +106,6 @@ def _right_hand_sides(scene: Scene, pencil: _Pencil, point: dict) -> list[_Vecto
             w = [wj + E * rj for wj, rj in zip(w, free)]
         vectors.append(w)
     return vectors
-
-
-def _interpolate(xs: list[int], ys: list[flint.fmpq]) -> flint.fmpq_poly:
-    """The polynomial of degree < len(xs) through (xs, ys), by divided differences."""
-    coefficients = list(ys)
-    for j in range(1, len(xs)):
-        for i in range(len(xs) - 1, j - 1, -1):
-            coefficients[i] = (coefficients[i] - coefficients[i - 1]) / (xs[i] - xs[i - j])
-    poly = flint.fmpq_poly([coefficients[-1]])
-    for i in range(len(xs) - 2, -1, -1):
-        poly = poly * flint.fmpq_poly([-xs[i], 1]) + coefficients[i]
-    return poly
-
-
-def _transform(pencil: _Pencil, vectors: list[_Vector]
-               ) -> tuple[flint.fmpq_poly, list[_Vector]] | None:
-    """Δ and, for each w in ``vectors``, the numerators adj(λ)·w; None if Δ ≡ 0.
-
-    adj(P(x))·w(x) = det P(x) · P(x)⁻¹ w(x) at integers x with det P(x) ≠ 0, then
-    interpolation (deg adj ≤ 2n - 2).
-    """
-    M, C, K = pencil
-    n = M.nrows()
-    count = 2 * n - 1 + max(0, max((wi.degree() for w in vectors for wi in w), default=0))
-    xs: list[int] = []
-    dets: list[flint.fmpq] = []
-    nodes: list[int] = []
-    values: list[list[flint.fmpq_mat]] = []
-    x = 0
-    while len(xs) < 2 * n + 1 or len(nodes) < count:
-        if x > count + 2 * n + 1:  # Δ has at most 2n integer roots unless it vanishes
-            return None
-        P = M * (x * x) + C * x + K
-        det = P.det()
-        if len(xs) < 2 * n + 1:
-            xs.append(x)
-            dets.append(det)
-        if det != 0 and len(nodes) < count:
-            nodes.append(x)
-            values.append([P.solve(flint.fmpq_mat(n, 1, [wi(x) for wi in w])) * det
-                           for w in vectors])
-        x += 1
-    delta = _interpolate(xs, dets)
-    if delta == 0:
-        return None
-    numerators = [[_interpolate(nodes, [row[k][i, 0] for row in values]) for i in range(n)]
-                  for k in range(len(vectors))]
-    return delta, numerators
 
 
 def screen_scene(scene: Scene) -> None:
@@ -234,9 +157,9 @@ def exact_refusal(scene: Scene) -> str | None:
     if everything and not all(e.is_rational_function(*everything) for e in entries):
         return None
     point = generic_values(everything) if everything else {}
-    pencil = _pencil(scene, point)
+    pencil = rational_pencil(scene, point)
     vectors = _right_hand_sides(scene, pencil, point) if pencil is not None else None
-    found = _transform(pencil, vectors) if pencil is not None and vectors is not None else None
+    found = solve_at_integers(pencil, vectors) if pencil is not None and vectors is not None else None
     if found is None:
         return None
     delta, pieces = found
