@@ -215,9 +215,12 @@ class ExactSolution(Solution):
         total, bounds, sizes = self._mp_parts(times, order, digits, floor)
         with mpmath.workdps(30):
             scale = max([mpmath.mpf(floor), *(abs(v) for row in total for v in row)])
-            lost = max((s / scale for row in sizes for s in row), default=mpmath.mpf(0))
-        if lost > 10 and scale > 0 and digits < limits().max_dps:
-            more = min(digits + int(mpmath.log10(lost)) + 5, limits().max_dps)
+            largest = max((s for row in sizes for s in row), default=mpmath.mpf(0))
+            # parts that cancel to exactly 0 (no floor): every digit may be lost
+            lost = largest / scale if scale > 0 else (mpmath.inf if largest > 0 else 0)
+        if lost > 10 and digits < limits().max_dps:
+            more = limits().max_dps if lost == mpmath.inf else \
+                min(digits + int(mpmath.log10(lost)) + 5, limits().max_dps)
             total, bounds, _ = self._mp_parts(times, order, more, floor)
         return total, bounds
 
