@@ -98,7 +98,7 @@ def test_symbolic_solution_substitutes_partially_and_evaluates():
 
 def test_numbers_for_the_scene_keep_the_numeric_routes():
     sol = ls.solve(damped_pair().subs(NUMBERS))
-    assert sol.method in ("certified", "modal")
+    assert sol.method in ("tiny", "certified", "modal")  # a float64 engine, not the exact route
     exact = ls.solve(damped_pair().subs(NUMBERS), method="exact")
     assert not any(e.atoms(sp.RootSum) for e in exact.x)  # rational quartic: CRootOf terms
     reference = reference_motion(damped_pair().subs(NUMBERS), TIMES, dps=40)
