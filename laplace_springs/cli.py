@@ -18,6 +18,9 @@ Print the closed form, the LaTeX, or a table of values of a bundled scene::
     laplace-springs scenes
     laplace-springs bench --quick -o bench-out
 
+Every number given to an option must be finite, and every output path (``--plot``,
+``-o``) is checked before any work starts: a directory, a device or FIFO, a missing
+folder or a missing or unknown suffix is refused, so no file appears anywhere else.
 Errors of the user (a bad scene file, an unknown scene, a bad option value, a scene
 beyond the documented limits, a file that cannot be written) are reported as one line
 ``laplace-springs: error: ...`` on stderr with exit status 2, like argparse's own usage
@@ -30,6 +33,8 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
+import stat
 import sys
 import traceback
 from collections.abc import Sequence
@@ -47,7 +52,7 @@ from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.names import coordinate_index
-from .model.numbers import split_unit
+from .model.numbers import NOT_FINITE_REAL, split_unit
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
 from .model.text_files import read_text_file
@@ -300,11 +305,45 @@ def _with_unit(item: str, convert, example: str) -> float:
         raise UsageError(f"--at: {exc}") from None
 
 
+def parse_frequencies(text: str) -> list[float]:
+    """Driving frequencies (rad/s) from a comma-separated list, such as ``"1,2.5"``.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated numbers; an item may carry a unit (``2Hz``, ``3 rpm``): it is
+        converted to rad/s.
+
+    Returns
+    -------
+    list of float
+
+    Raises
+    ------
+    UsageError
+        For an empty item, text that is not a number, NaN or infinity (also a number
+        beyond the float64 range, such as ``1e400``); the message quotes the item.
+
+    Examples
+    --------
+    >>> parse_frequencies("1, 2.5")
+    [1.0, 2.5]
+    >>> parse_frequencies("1,nan")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.cli.UsageError: --at: frequency must be finite, got 'nan'
+    """
+    return [_parse_frequency(item.strip()) for item in text.split(",")]
+
+
 def _parse_frequency(item: str) -> float:
     try:
-        return float(item)
+        value = float(item)
     except ValueError:
-        return _with_unit(item, frequencies_to_rad_per_second, "give frequencies like 1,2.5 or 1Hz,2Hz")
+        value = _with_unit(item, frequencies_to_rad_per_second, "give frequencies like 1,2.5 or 1Hz,2Hz")
+    if not math.isfinite(value):
+        raise UsageError(f"--at: frequency must be finite, got {item!r}")
+    return value
 
 
 def _check_dps(args: argparse.Namespace) -> None:
@@ -503,7 +542,7 @@ def _run_response(args: argparse.Namespace, out: TextIO) -> None:
     if scene.units is not None:
         lines.append("omega in rad/s, f = omega/(2 pi) in Hz")
     if args.at is not None:
-        omegas = [_parse_frequency(item.strip()) for item in args.at.split(",")]
+        omegas = parse_frequencies(args.at)
         H = frequency_response(scene, omegas)[:, :, args.force - 1]
         lines.append(f"amplitude per unit force on {scene.names[args.force - 1]}:")
         lines += _table_lines(scene.names, omegas, np.abs(H).T, TABLE_DIGITS, variable="omega")
@@ -665,6 +704,7 @@ def main(argv: list[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else _EXIT_ERROR
     debug = getattr(args, "debug", False)
     try:
+        _check_arguments(args)  # every number and output path, before any work
         args.run(args, sys.stdout)
         sys.stdout.flush()
     except BrokenPipeError:  # output piped into `head` and closed early: stop quietly
@@ -681,6 +721,110 @@ def main(argv: list[str] | None = None) -> int:
         return _report(f"{type(exc).__name__}: {_user_message(exc)}{hint}",
                        kind="internal error", status=_EXIT_INTERNAL)
     return 0
+
+
+#: Output files the commands write, by (command, option): the suffixes allowed (None: any).
+#: A figure's format follows its suffix (matplotlib), so a plot needs one it knows.
+_OUTPUT_FILES: dict[tuple[str, str], tuple[str, ...] | None] = {
+    ("solve", "plot"): (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg", ".jpeg", ".tif", ".tiff"),
+    ("response", "plot"): (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg", ".jpeg", ".tif", ".tiff"),
+    ("solve", "output"): None,
+    ("animate", "output"): (".gif", ".mp4", ".html"),
+    ("page", "output"): (".html", ".htm", ".tex"),
+}
+#: Output folders, by (command, option).
+_OUTPUT_FOLDERS = {("bench", "out")}
+
+
+def _flag(name: str) -> str:
+    return {"out": "-o/--out", "output": "-o/--output"}.get(name, "--" + name.replace("_", "-"))
+
+
+def _check_arguments(args: argparse.Namespace) -> None:
+    """Refuse non-finite numbers in any option, and output paths that cannot be written
+    (a directory, a device or FIFO, a missing folder, a missing or unknown suffix), so that
+    a bad option is one line before any work is done, and no file appears elsewhere."""
+    for name, value in vars(args).items():
+        if isinstance(value, float) and not math.isfinite(value):
+            raise UsageError(f"{_flag(name)}: {value!r} is not a finite number")
+    command = getattr(args, "command", None)
+    if getattr(args, "at", None) is not None:  # the --at table: times, or frequencies
+        (parse_frequencies if command == "response" else parse_times)(args.at)
+    for item in getattr(args, "param", None) or []:
+        _check_param_value(item)
+    for (owner, name), suffixes in _OUTPUT_FILES.items():
+        value = getattr(args, name, None)
+        if owner == command and value is not None:
+            _check_output_file(value, _flag(name), suffixes)
+    for owner, name in _OUTPUT_FOLDERS:
+        value = getattr(args, name, None)
+        if owner == command and value is not None:
+            _check_output_folder(value, _flag(name))
+
+
+#: Words that name no finite real number in a ``--param`` value (``i`` and ``j`` may be
+#: parameters of a scene, so the parser judges those).
+_NOT_FINITE_WORDS = NOT_FINITE_REAL - {"i", "j"}
+
+
+def _check_param_value(item: str) -> None:
+    """A ``--param NAME=VALUE`` whose value names nan or infinity is refused before the
+    scene is read (the scene's own check would first ask whether NAME is a parameter)."""
+    name, _, value = item.partition("=")
+    word = next((word for word in re.findall(r"[A-Za-z][A-Za-z0-9_]*", value)
+                 if word.lower() in _NOT_FINITE_WORDS), None)
+    if word is not None:
+        raise UsageError(f"--param {name.strip()}: {word!r} is not a finite real number "
+                         f"(in the value {value.strip()!r})")
+
+
+def _existing_kind(path: str) -> str | None:
+    """What is at ``path`` when it is not a regular file ("a directory", "a FIFO", ...),
+    "" for a regular file, None when nothing is there."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"cannot use {path!r}: {getattr(exc, 'strerror', None) or exc}") from None
+    kinds = ((stat.S_ISREG, ""), (stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+             (stat.S_ISSOCK, "a socket"))
+    return next((kind for test, kind in kinds if test(mode)), "not a regular file")
+
+
+def _check_output_file(path: str, flag: str, suffixes: tuple[str, ...] | None) -> None:
+    """A file to write: a regular file or nothing yet, in a writable folder, with a suffix
+    from ``suffixes`` (when given)."""
+    if not path or path.endswith(("/", os.sep)):
+        raise UsageError(f"{flag}: {path!r} is not a file name")
+    kind = _existing_kind(path)
+    if kind:
+        raise UsageError(f"{flag}: {path!r} is {kind}, not a file to write")
+    suffix = os.path.splitext(path)[1].lower()
+    if suffixes is not None and suffix not in suffixes:
+        given = f"has the suffix {suffix!r}" if suffix else "has no suffix"
+        raise UsageError(f"{flag}: {path!r} {given}; the file name must end in "
+                         f"{', '.join(suffixes[:-1])} or {suffixes[-1]} (the suffix picks the format)")
+    _check_writable_folder(os.path.dirname(path) or ".", flag, path)
+
+
+def _check_output_folder(path: str, flag: str) -> None:
+    """A folder to write into: an existing directory, or a new one in a writable folder."""
+    kind = _existing_kind(path)
+    if kind == "a directory":
+        _check_writable_folder(path, flag, path)
+        return
+    if kind is not None:
+        raise UsageError(f"{flag}: {path!r} is {'a file' if kind == '' else kind}, not a folder")
+    _check_writable_folder(os.path.dirname(os.path.normpath(path)) or ".", flag, path)
+
+
+def _check_writable_folder(folder: str, flag: str, path: str) -> None:
+    if _existing_kind(folder) != "a directory":
+        raise UsageError(f"{flag}: {path!r}: the folder {folder!r} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UsageError(f"{flag}: {path!r}: the folder {folder!r} is not writable")
 
 
 def _silence_stdout() -> None:

@@ -386,9 +386,9 @@ def test_response_needs_numbers_too(capsys, symbolic_file):
 
 
 @pytest.mark.parametrize("args, fragment", [
-    (["--plot", "/nonexistent/dir/x.png"], "--plot: cannot write '/nonexistent/dir/x.png': No such file"),
-    (["--plot", "x.unknown-format"], "--plot: cannot write 'x.unknown-format'"),
-    (["--latex", "-o", "/nonexistent/dir/x.tex"], "-o: cannot write '/nonexistent/dir/x.tex'"),
+    (["--plot", "/nonexistent/dir/x.png"], "--plot: '/nonexistent/dir/x.png': the folder '/nonexistent/dir' does not exist"),
+    (["--plot", "x.unknown-format"], "--plot: 'x.unknown-format' has the suffix '.unknown-format'; the file name must end in .png"),
+    (["--latex", "-o", "/nonexistent/dir/x.tex"], "-o/--output: '/nonexistent/dir/x.tex': the folder '/nonexistent/dir' does not exist"),
 ])
 def test_unwritable_output_is_one_line(capsys, tmp_path, monkeypatch, args, fragment):
     monkeypatch.chdir(tmp_path)

@@ -22,9 +22,10 @@ import sympy as sp
 from numpy.typing import ArrayLike
 
 from ..exact.resolvent import resolvent
-from ..model.errors import SceneError
+from ..limits import limits
+from ..model.errors import LimitError, SceneError
 from ..model.names import coordinate_index
-from ..model.numbers import to_exact
+from ..model.numbers import shown, to_exact
 from ..model.scene import Scene
 from ..model.supports import support_columns
 from ..model.symbols import OMEGA, lam
@@ -81,12 +82,90 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
         at = {lam: sp.I * omega}
         delta = sp.expand(R.determinant.as_expr().xreplace(at))
         return sp.ImmutableMatrix(R.adjugate.applyfunc(lambda e: sp.expand(e.xreplace(at)) / delta))
-    omegas = frequencies_to_rad_per_second(omegas)
+    w = _frequencies(frequencies_to_rad_per_second(omegas), "frequency_response")
+    eye = np.broadcast_to(np.eye(scene.n, dtype=complex), (w.size, scene.n, scene.n))
+    return _solve_pencils(scene, w, eye, "frequency_response")
+
+
+def _frequencies(omegas: Any, caller: str) -> np.ndarray:
+    """Driving frequencies as a flat float64 array, each finite (a SceneError naming the
+    first that is not, or that is not a real number)."""
+    try:
+        w = np.atleast_1d(np.asarray(omegas, dtype=float))
+    except (TypeError, ValueError, OverflowError):
+        raise SceneError(f"{caller}: omegas must be real numbers (rad per unit time), got "
+                         f"{shown(omegas)}") from None
+    if w.ndim != 1:
+        raise SceneError(f"{caller}: omegas must be a flat sequence of frequencies, got shape {w.shape}")
+    bad = np.flatnonzero(~np.isfinite(w))
+    if bad.size:
+        raise SceneError(f"{caller}: omegas[{int(bad[0])}] = {float(w[bad[0]])!r} is not a finite frequency")
+    return w
+
+
+def _solve_pencils(scene: Scene, w: np.ndarray, rhs: np.ndarray, caller: str) -> np.ndarray:
+    """(K − ω²M + iωC)⁻¹ rhs[k] for each ω = w[k], in float64, with ω² never formed.
+
+    Above ω = 1 the pencil is divided by ω² (K/ω/ω − M + iC/ω) and the solution by ω twice,
+    so ω up to the float64 range gives finite values; a value that underflows (|H| below
+    about 1e-308 where the scaled solution is not zero) or a singular pencil (an undamped
+    scene driven at a natural frequency) is an error naming the frequency, never NaN or a
+    silent zero. The result (frequencies x n x columns) is held to
+    Limits.max_evaluation_values before any work, and the pencils are formed and solved
+    in chunks of about Limits.evaluation_chunk_values numbers.
+    """
+    n, columns = scene.n, rhs.shape[-1]
+    most = limits().max_evaluation_values
+    if w.size * n * columns > most:
+        raise LimitError(f"{caller}: {w.size:,} frequencies x {n:,} x {columns:,} = "
+                         f"{w.size * n * columns:,} values, more than Limits.max_evaluation_values = "
+                         f"{most:,}; give at most {max(most // (n * columns), 1):,} frequencies per call")
     M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
-    w = np.atleast_1d(np.asarray(omegas, dtype=float))
-    pencils = K[None] - (w**2)[:, None, None] * M[None] + 1j * w[:, None, None] * C[None]
-    eye = np.broadcast_to(np.eye(scene.n, dtype=complex), pencils.shape)
-    return np.linalg.solve(pencils, eye)
+    out = np.empty((w.size, n, columns), dtype=complex)
+    step = max(1, limits().evaluation_chunk_values // (n * n))
+    for start in range(0, w.size, step):
+        part = slice(start, start + step)
+        out[part] = _solve_chunk(M, C, K, w[part], rhs[part], caller)
+    return out
+
+
+def _solve_chunk(M: np.ndarray, C: np.ndarray, K: np.ndarray, w: np.ndarray, rhs: np.ndarray,
+                 caller: str) -> np.ndarray:
+    """One chunk of :func:`_solve_pencils`."""
+    scale = np.where(np.abs(w) > 1, np.abs(w), 1.0)
+    pencils = ((K[None] / scale[:, None, None]) / scale[:, None, None]
+               - ((w / scale) ** 2)[:, None, None] * M[None]
+               + 1j * (w / scale / scale)[:, None, None] * C[None])
+    try:
+        scaled = np.linalg.solve(pencils, rhs)
+    except np.linalg.LinAlgError:  # name the first frequency whose pencil is singular
+        for k in range(w.size):
+            try:
+                np.linalg.solve(pencils[k], rhs[k])
+            except np.linalg.LinAlgError:
+                raise SceneError(f"{caller}: omega = {float(w[k])!r} is a natural frequency of an "
+                                 "undamped scene: the response grows without bound (resonance)") from None
+        raise
+    with np.errstate(under="ignore"):
+        value = scaled / scale[:, None, None] / scale[:, None, None]
+    largest = np.max(np.abs(value), axis=(1, 2), initial=0.0)
+    lost = (largest < np.finfo(float).tiny) & np.any(scaled != 0, axis=(1, 2))  # all of it underflowed
+    bad = np.flatnonzero(~np.all(np.isfinite(value), axis=(1, 2)) | lost)
+    if bad.size:
+        k = int(bad[0])
+        raise LimitError(f"{caller}: at omega = {float(w[k])!r} the response is beyond the float64 "
+                         f"range (|H| about {_magnitude(scaled[k], w[k])}); float64 values exist "
+                         "only between about 1e-308 and 1e308")
+    return value
+
+
+def _magnitude(scaled: np.ndarray, omega: float) -> str:
+    """|scaled|/ω² written as a power of ten (it need not be a float64 number)."""
+    largest = float(np.max(np.abs(scaled))) if scaled.size else 0.0
+    if largest == 0 or not np.isfinite(largest):
+        return "not finite"
+    exponent = np.log10(largest) - 2 * np.log10(max(abs(omega), 1.0))
+    return f"1e{round(exponent):+d}"
 
 
 def steady_state_amplitude(scene: Scene, force: Sequence[Any], frequency: Any
@@ -284,18 +363,11 @@ def transmissibility(scene: Scene, omegas: ArrayLike | None = None, support: str
                 row.append(sp.sqrt(sp.cancel(sp.expand(P.xreplace({omega: w})) / denominator)))
             table.append(row)
         return sp.ImmutableMatrix(table)
-    omegas = frequencies_to_rad_per_second(omegas)  # "2 Hz" is 4π rad/s
+    w = _frequencies(frequencies_to_rad_per_second(omegas), "transmissibility")  # "2 Hz" is 4π rad/s
     Ks, Cs = (float_matrix(column, name).ravel() for column, name in
               zip(support_columns(scene, support), ("K_s", "C_s")))
-    M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
-    w = np.atleast_1d(np.asarray(omegas, dtype=float))
-    pencils = K[None] - (w**2)[:, None, None] * M[None] + 1j * w[:, None, None] * C[None]
     drives = Ks[None, :] + 1j * w[:, None] * Cs[None, :]
-    try:
-        X = np.linalg.solve(pencils, drives[:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        raise SceneError("a frequency in omegas is a natural frequency of an undamped scene: the "
-                         "response grows without bound (resonance)") from None
+    X = _solve_pencils(scene, w, drives[:, :, None], "transmissibility")[:, :, 0]
     return np.abs(X[:, rows])
 
 

@@ -378,9 +378,14 @@ def test_file_size_is_limited_before_reading_it_all(tmp_path):
 
 
 @pytest.mark.skipif(not __import__("os").path.exists("/dev/zero"), reason="needs /dev/zero")
-def test_an_endless_file_is_refused():
-    with pytest.raises(SceneError, match="Limits.max_file_bytes"):
+def test_an_endless_file_is_refused(set_limits, tmp_path):
+    # an endless device is refused before it is read; a regular file is read up to the limit
+    with pytest.raises(SceneError, match="'/dev/zero': it is a character device, not a regular file"):
         load_scene("/dev/zero")
+    set_limits(max_file_bytes=1000)
+    (tmp_path / "big.toml").write_text("# " + "x" * 2000 + "\n")
+    with pytest.raises(SceneError, match="more than 1,000 bytes, the limit Limits.max_file_bytes"):
+        load_scene(tmp_path / "big.toml")
 
 
 def test_deeply_nested_toml_is_a_scene_error():
