@@ -199,7 +199,8 @@ class Limits:
     #: Largest scene the sweep compiles symbolically (the symbolic adjugate grows fast).
     sweep_max_coordinates: int = 8
     #: Roots closer than this · (largest |root|) are one cluster in the sweep kernels
-    #: (evaluated by divided differences).
+    #: (evaluated by divided differences; the close-poles rule of kernels/poles.py with a
+    #: wider gap: a double root from a float64 companion matrix is known to about √ε).
     cluster_gap: float = 5e-2
     #: Memory a sweep chunk's largest array may take (bytes).
     chunk_bytes: int = 32 * 2**20

@@ -107,6 +107,7 @@ import sympy as sp
 from flint import fmpq, fmpq_mat
 
 from ..kernels.dd import U, dd_add, dd_div, dd_mul, dd_sqrt, dd_sum, phase, two_prod, two_sum
+from ..kernels.poles import clusters
 from ..limits import limits
 from ..model.errors import InternalError
 from ..model.scene import Scene
@@ -549,10 +550,7 @@ def _clusters(theta: np.ndarray) -> list[np.ndarray]:
     if theta.size < 2:
         return []
     omega = np.sign(theta) * np.sqrt(np.abs(theta))
-    gap = limits().close_poles * max(float(np.max(np.abs(omega))), 1e-300)
-    order = np.argsort(omega, kind="stable")
-    breaks = np.flatnonzero(np.diff(omega[order]) > gap) + 1
-    return [group for group in np.split(order, breaks) if group.size > 1]
+    return clusters(omega, limits().close_poles * max(float(np.max(np.abs(omega))), 1e-300))
 
 
 def _column_blocks(n: int, m: int) -> list[slice]:

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kernels.poles import cluster_labels
 from ..limits import limits
 
 __all__ = ["Block", "evaluate_block", "polynomial_roots"]
@@ -113,14 +114,9 @@ def polynomial_roots(den: np.ndarray) -> np.ndarray:
 
 
 def _clusters(roots: np.ndarray, radius: np.ndarray) -> np.ndarray:
-    """Cluster labels (P, N): the smallest index reachable through links closer than
-    Limits.cluster_gap · radius."""
-    P, N = roots.shape
-    close = np.abs(roots[:, :, None] - roots[:, None, :]) <= limits().cluster_gap * radius[:, None, None]
-    reach = close.copy()
-    for _ in range(max(1, int(np.ceil(np.log2(max(N, 2)))))):
-        reach = reach | (np.matmul(reach.astype(np.int8), reach.astype(np.int8)) > 0)
-    return np.argmax(reach, axis=2)
+    """Cluster labels (P, N) by the package's close-poles rule (kernels/poles.py) with the
+    gap Limits.cluster_gap · radius."""
+    return cluster_labels(roots, limits().cluster_gap * radius)
 
 
 def _polish(den: np.ndarray, roots: np.ndarray, isolated: np.ndarray,
