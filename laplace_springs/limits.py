@@ -101,9 +101,18 @@ class Limits:
     #: Largest scene (coordinates) the exact route takes. The fraction-free adjugate of
     #: λ²M + λC + K costs about n⁴ (damped chains: 12 coordinates 0.7 s, 20 3 s, 30 14 s).
     max_exact_coordinates: int = 40
-    #: Largest degree of an irreducible rational factor whose exact real terms are built:
-    #: cost grows like d⁴ (16: 0.4 s, 24: 1.2 s, 40: 10 s).
+    #: Largest degree of an irreducible rational factor whose exact real terms are written
+    #: out (forced scenes, inverse transforms): cost grows like d⁴ (16: 0.4 s, 24: 1.2 s,
+    #: 40: 10 s). A free scene with rational entries names its roots instead (any degree,
+    #: up to max_exact_coordinates: damped chains of 16 masses, degree 32, 0.3 s; 40
+    #: masses, degree 80, 4 s).
     max_exact_factor_degree: int = 24
+    #: Above this degree, an irreducible rational factor that needs CRootOf gives a motion in
+    #: named numbers (ρ_j, α_j, β_j, c_j from flint, CRootOf built when asked:
+    #: laplace_springs/exact/named_roots.py); up to it, coefficients written out as
+    #: polynomials in re/im of CRootOf. SymPy numbers the roots of q in 0.34 s at degree 8,
+    #: 2.4 s at 16, 10 s at 24; the written-out form has about d²/4 terms per coefficient.
+    exact_expanded_max_degree: int = 4
     #: ``modes`` is exact up to this many coordinates for rational scenes.
     modes_exact_max_coordinates: int = 40
     #: Up to this many coordinates the text summary takes the exact modes.

@@ -40,6 +40,7 @@ from ..model.switching import sorted_delays
 from ..model.symbols import TIME, lam
 from .jumps import InitialJump, initial_jump
 from .named import definitions, expand_names
+from .named_roots import free_rational, named_rows
 from .partial_fractions import GenericCondition, decompose, denominator_conditions
 from .real_terms import (
     RootSumTerm,
@@ -187,6 +188,7 @@ class ExactMotion:
     resolvent: Resolvent
     pieces: tuple[Piece, ...]
     periodic: PeriodicResponse | None = None
+    named_roots: bool = False
 
     @property
     def terms(self) -> tuple[tuple[Term, ...], ...]:
@@ -254,7 +256,9 @@ class ExactMotion:
         """The terms of each g_k(t) = L⁻¹[λ^k/Δ(λ)], k in :attr:`g_indices`."""
         D = self.g_denominator
         monomials = [sp.Poly(lam**k, lam, domain=D.domain) for k in self.g_indices]
-        rows = solution_terms(decompose(monomials, D, closed_form=True, root_sums=True))
+        named = named_rows(monomials, D, powers=self.g_indices) if self.named_roots else None
+        rows = named if named is not None else solution_terms(
+            decompose(monomials, D, closed_form=True, root_sums=True))
         return dict(zip(self.g_indices, rows))
 
     @cached_property
@@ -410,24 +414,32 @@ def exact_motion(scene: Scene) -> ExactMotion:
     Σ_{Δ(λ)=0} N_i(λ)/Δ'(λ) e^{λt} (a :class:`~laplace_springs.exact.root_sums.SumOverRoots`),
     valid where those roots are simple (:attr:`ExactMotion.conditions`).
 
+    A free scene with rational entries is built over ℚ (python-flint); a factor of Δ(λ)
+    of degree above :attr:`~laplace_springs.limits.Limits.exact_expanded_max_degree`
+    gives terms in named numbers (ρ_j, α_j, β_j, c_j: see
+    :mod:`laplace_springs.exact.named_roots`), exact, with ``CRootOf`` built only when
+    asked (:meth:`ExactMotion.substituted`).
+
     Raises
     ------
     InversionError
         At once (before the resolvent is built, see
         :func:`~laplace_springs.exact.screening.screen_scene`) or right after Δ(λ) is
         factored, when Δ has an irreducible factor above
-        :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` or one of
-        degree ≥ 3 with irrational coefficients, that the solution needs; or when the scene
-        has more than :attr:`~laplace_springs.limits.Limits.max_exact_coordinates`
-        coordinates.
+        :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` (a forced or
+        symbolic scene) or one of degree ≥ 3 with irrational coefficients, that the
+        solution needs; or when the scene has more than
+        :attr:`~laplace_springs.limits.Limits.max_exact_coordinates` coordinates.
     """
-    screen_scene(scene)
+    if not free_rational(scene):  # its factors have exact terms at any degree
+        screen_scene(scene)
     R = resolvent(scene)
     if not scene.is_forced:
-        rows = solution_terms(decompose(list(R.numerators), R.determinant, closed_form=True,
-                                             root_sums=True))
+        named = named_rows(list(R.numerators), R.determinant)
+        rows = named if named is not None else solution_terms(
+            decompose(list(R.numerators), R.determinant, closed_form=True, root_sums=True))
         flags = tuple((False,) * len(row) for row in rows)
-        return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),))
+        return ExactMotion(scene, R, (Piece(sp.S.Zero, rows, flags),), named_roots=named is not None)
     assert scene.forcing is not None
     inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
     with naming_scope():
