@@ -301,7 +301,7 @@ class Solution(ABC):
         if not self._planned:
             return Plan(request, self.method, tuple(own), costs={name: Cost(0.0, 0.0) for name in own},
                         reason=self.reason)
-        return plan_request(scene_facts(self.scene), request, method=self.requested,
+        return plan_request(scene_facts(self.scene, self.requested), request, method=self.requested,
                             built=own, available=(set(own) | set(BUILDERS)) - self.excluded)
 
     def _evaluator(self, name: str) -> Evaluator | Refusal:

@@ -84,7 +84,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     if scene.sampled is not None:  # measured histories: the rest by `method`, then their response
         base = solve(formula_part(scene), method=method, target=target)
         return solve_sampled(scene, target, base=base)
-    facts = scene_facts(scene)
+    facts = scene_facts(scene, method)
     if facts.symbolic and method not in ("auto", "exact", "mp"):
         raise SceneError(f"the {method} route needs numbers, but these entries are symbolic: "
                          + ", ".join(symbolic_entries(scene)) + "; use method='exact'")
@@ -184,4 +184,4 @@ def plan_for(scene: Scene, times: Any = None, *, method: str = "auto", target: f
     request = DEFAULT_REQUEST if times is None else request_for(
         as_times(times), target=check_target(target),
         dps=None if dps is None else check_dps(dps), order=derivative)
-    return plan(scene_facts(scene), request, method=method, available=set(BUILDERS))
+    return plan(scene_facts(scene, method), request, method=method, available=set(BUILDERS))

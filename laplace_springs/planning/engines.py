@@ -196,6 +196,9 @@ def _modal_refusal(facts: SceneFacts, request: Request) -> str | None:
 def _krylov_refusal(facts: SceneFacts, request: Request) -> str | None:
     if why := _numeric(facts):
         return why
+    if facts.krylov is None:
+        return (f"scenes of at most Limits.tiny_max_coordinates = {limits().tiny_max_coordinates}"
+                " coordinates are left to the tiny, certified and exact engines")
     if not facts.krylov or facts.pole_bound is None:
         return ("needs rational entries, a diagonal positive M, and K ⪰ 0, C + Cᵀ ⪰ 0 proved "
                 "by diagonal dominance")

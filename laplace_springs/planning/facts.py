@@ -11,7 +11,8 @@ float64 rounding), which the planner's cost models read.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..limits import limits
@@ -93,7 +94,7 @@ class SceneFacts:
     first_order: bool
     classical: bool = False
     rayleigh: bool = False
-    krylov: bool = False
+    krylov: bool | None = False   # None: not asked (a tiny scene)
     nnz: int = 0
     diagonal_mass: bool = False
     stiffness_bound: float | None = None
@@ -105,20 +106,28 @@ class SceneFacts:
         """The engine module's quote for this scene, if it gave one."""
         return next((q for q in self.quotes if q.engine == engine), None)
 
+    def knowing(self, built: Iterable[str]) -> SceneFacts:
+        """These facts, with what an engine's successful build proves: a built krylov
+        engine takes the scene even where its check was not asked (a tiny scene)."""
+        if self.krylov is None and "krylov" in set(built):
+            return replace(self, krylov=True)
+        return self
+
     @property
     def numeric(self) -> bool:
         """Unforced, numbers only, with a first-order form: every float engine may try it."""
         return self.first_order and not self.forced and not self.symbolic
 
 
-def scene_facts(scene: Scene) -> SceneFacts:
-    """The facts of a scene (cached with it).
+def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
+    """The facts of a scene (cached with it); ``method`` names an engine whose own checks
+    are then made even where auto leaves them out (krylov's on a tiny scene).
 
     Examples
     --------
     >>> facts = scene_facts(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))
     >>> facts.n, facts.rational, facts.classical, facts.krylov, round(facts.pole_bound, 6)
-    (1, True, True, True, 3.0)
+    (1, True, True, None, 3.0)
     >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0],
     ...                                 parameters=["k"])).symbolic
     True
@@ -127,6 +136,8 @@ def scene_facts(scene: Scene) -> SceneFacts:
     if "facts" not in table:
         table["facts"] = _facts(scene)
     facts: SceneFacts = table["facts"]
+    if method == "krylov" and facts.krylov is None:
+        facts = table["facts"] = replace(facts, krylov=krylov_refusal(scene) is None)
     return facts
 
 
@@ -150,9 +161,19 @@ def _facts(scene: Scene) -> SceneFacts:
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
                       rational=not symbolic and rational, first_order=first_order,
                       classical=classical, rayleigh=rayleigh,
-                      krylov=unforced and rational and krylov_refusal(scene) is None,
+                      krylov=_krylov_serves(scene) if unforced and rational else False,
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
                       pole_bound=poles, sampled=sampled, quotes=quotes)
+
+
+def _krylov_serves(scene: Scene) -> bool | None:
+    """Whether the krylov engine takes the scene; None (not asked) up to
+    Limits.tiny_max_coordinates: its checks (a verified spectral bound from sparse power
+    steps) cost milliseconds, more than a tiny scene's whole solve, and the tiny,
+    certified and exact engines serve every scene of that size."""
+    if scene.n <= limits().tiny_max_coordinates:
+        return None
+    return krylov_refusal(scene) is None
 
 
 def _tiny_quote(scene: Scene) -> Quote:

@@ -126,6 +126,7 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     names = set(ENGINE_NAMES if available is None else available)
     built = set(built)
+    facts = facts.knowing(built)
     serving: list[Engine] = []
     refusals: list[Refusal] = []
     for entry in ENGINES:
