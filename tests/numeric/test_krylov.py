@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import laplace_springs.routes.engines  # noqa: F401 - registers the engines a plan may call
 from laplace_springs import Scene, SceneError
 from laplace_springs.bench.reference import reference_motion
 from laplace_springs.numeric.krylov import krylov_refusal
@@ -109,6 +110,36 @@ def test_refusals_name_the_reason() -> None:
     assert "diagonal" in krylov_refusal(mass)
     with pytest.raises(SceneError, match="krylov"):
         krylov_solution(negative, reason="test")
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("matrices,reason", [
+    ({"M": [["1e-300"]], "K": [["1e300"]], "x0": [1], "v0": [0]}, "beyond"),
+    ({"M": [["1e300"]], "K": [["1e-300"]], "x0": [1], "v0": [0]}, "beyond"),
+    ({"M": [[1]], "C": [["1e300"]], "K": [[1]], "x0": [1], "v0": [0]}, "beyond"),
+    ({"M": [["1e-200"]], "K": [[1]], "x0": [1], "v0": [0]}, "mass is below"),
+    ({"M": [[1]], "K": [["1e100"]], "x0": ["1e120"], "v0": [0]}, "initial data"),
+])
+def test_scenes_beyond_float64_are_declined_with_a_reason(matrices, reason) -> None:
+    """Extreme scales: a refusal the planner reads (no crash, no overflow warning)."""
+    scene = Scene.from_matrices(**matrices)
+    why = krylov_refusal(scene, t_max=1e3)
+    assert why is not None and reason in why
+    with pytest.raises(SceneError, match="krylov"):
+        krylov_solution(scene, reason="test")
+
+
+def test_a_slow_scene_is_served_within_its_bound() -> None:
+    """ν far below 1 (a tiny spring on a heavy mass): one long step, against the closed
+    form x = cos(ωt) in mpmath."""
+    import mpmath
+
+    scene = Scene.from_matrices(M=[["1e60"]], K=[["1e-60"]], x0=[1], v0=[0])
+    times = np.array([0.0, 1.0, 1e3, 1e50])
+    values, bounds = krylov_solution(scene, reason="test").motion.evaluate(times, 0)
+    with mpmath.workdps(80):
+        exact = [float(mpmath.cos(mpmath.mpf(t) * mpmath.mpf(10) ** -60)) for t in times]
+    assert np.all(np.abs(values[0] - exact) <= bounds[0]) and np.max(bounds) < 1e-13
 
 
 def test_auto_takes_the_krylov_route_for_a_large_network() -> None:

@@ -1,0 +1,314 @@
+"""One Taylor step of the krylov engine: its terms, the next state, values inside it, and
+the size of every rounding committed (the arithmetic behind :mod:`.krylov`).
+
+A step from the state ẑ = (x̂, v̂) (double-doubles) forms the terms U_k = H^k (A^k ẑ)_v,
+k = 0..m (U_0 = v̂), each one sparse product U_k = D·[U_{k−2}; U_{k−1}] (the first with D'
+on [x̂; v̂]; see :mod:`.krylov_data`). The exact Taylor series is then
+
+    x(b + rH) = x̂ + Σ_{k≥1} (r^k H / k!)·U_{k−1},      v(b + rH) = Σ_{k≥0} (r^k / k!)·U_k.
+
+*Extended terms.* While a term is large enough for float64's rounding to matter, it is
+formed to about 2^-70 (Ozaki's error-free split: the vector w = [U_{k−2}; U_{k−1}] is cut
+at the grid 2^(F − b), 2^F > max|w|, its leading part w₁ multiplied exactly by D₁ and the
+rest in one float64 product [D₂ + D_lo | D_hi]·[w₁; w₂ + w_lo]), and kept as a
+double-double. Its rounding is at most β₂‖w₁‖ + β(‖w₂ + w_lo‖ + 2u‖w‖) in the energy
+norm, β and β₂ the norms of |D| and |D₂ + D_lo| weighted by √m_r·(γ_{2w_r} + 2u) per row.
+Once a float64 product's rounding, carried to the end of the series, is below
+Limits.krylov_step_error of the scene's energy N(z0) (a test on the terms' computed norms,
+so the switch is a function of the state alone), the remaining terms are plain float64
+products. Each term's rounding f_k enters the series as a perturbation of the v-part, so
+its effect on the step is at most φ_k·N(f_k) in the energy norm (N((HA)^i f) ≤ θ^i N(f),
+φ_k = Σ_{i=k}^{m} θ^{i−k}/i!) and H·ψ_k·N(f_k)/√m_min on x (ψ_k = Σ_{i>k} θ^{i−1−k}/i!).
+
+*The next state* is the series at r = 1, Σ_k W_k U_k with the exact weights W_k (H/(k+1)!
+for x, 1/k! for v), formed with the same split on the terms scaled by 2^(−s_k) ≈ 1/k!
+(exactly): the leading slices' products with the weights' leading slices are exact in one
+BLAS product, the rest is a second product off by about 2^-60 of the largest scaled term.
+
+*Values* inside the step are the series in float64 from the leading parts, summed from
+the last term down so that the large early terms pass through few additions: the
+rounding is at most Σ_k (3k + 4)u·|ω_k|·‖U_{k−1}‖∞ (ω_k the k-th weight: 2k + 1 roundings
+of the weight, one of the product, k + 1 of the partial sums it enters, one for the
+dropped low part) plus 3u‖x̂‖∞. Every operation on a time's values is elementwise, so a
+value does not depend on the other times of the call.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from ..kernels.dd import U, dd_add, from_exact, two_sum
+from ..limits import limits
+from .krylov_data import KrylovData, StepMatrix
+
+__all__ = ["Stepper", "StepTerms", "tail"]
+
+#: An absolute bound per entry for underflow in the exact products (values below 1e-300
+#: of the scale are far below any target).
+_TINY = 1e-300
+
+
+def tail(theta: float, m: int) -> float:
+    """Σ_{k>m} θ^k/k! ≤ θ^(m+1)/(m+1)!/(1 − θ/(m+2)) (for θ < m + 2).
+
+    >>> tail(1.0, 3) > sum(1 / math.factorial(k) for k in range(4, 30))
+    True
+    """
+    if theta <= 0:
+        return 0.0
+    if theta >= m + 2:
+        return math.inf
+    return math.exp((m + 1) * math.log(theta) - math.lgamma(m + 2)) / (1 - theta / (m + 2))
+
+
+@dataclass
+class StepTerms:
+    """One step's terms (rows of ``hi``/``lo``: 0 is x̂, k + 1 is U_k) and its roundings.
+
+    ``rounding`` is Σ_k φ_k N(f_k) (energy norm) and ``rounding_x`` Σ_k ψ_k N(f_k);
+    ``sup`` the max-norm of every row of ``hi``; ``extended`` the number of terms formed
+    in double-double (k = 1..extended)."""
+
+    hi: np.ndarray
+    lo: np.ndarray
+    extended: int
+    rounding: float
+    rounding_x: float
+    sup: np.ndarray
+    norms: np.ndarray
+
+
+def _csr_kernel() -> Any:
+    """SciPy's compiled CSR product y += A x (its public ``@`` allocates and checks on every
+    call: a third of a product's time at 1,000 rows), or None where it is not there."""
+    try:
+        from scipy.sparse import _sparsetools
+    except ImportError:  # pragma: no cover - another SciPy layout
+        return None
+    return getattr(_sparsetools, "csr_matvec", None)
+
+
+def _csr_into(matrix: Any, vector: np.ndarray, out: np.ndarray, kernel: Any) -> None:
+    """out = matrix @ vector (CSR, float64, rows in order) written in place."""
+    if kernel is None:  # pragma: no cover - another SciPy layout
+        out[...] = matrix @ vector
+        return
+    out.fill(0.0)
+    kernel(matrix.shape[0], matrix.shape[1], matrix.indptr, matrix.indices, matrix.data, vector, out)
+
+
+class Stepper:
+    """The arithmetic of the krylov engine's steps for one scene (see the module notes).
+
+    Parameters
+    ----------
+    data : KrylovData
+    """
+
+    def __init__(self, data: KrylovData) -> None:
+        self.data = data
+        n, theta = data.n, data.theta
+        budget = limits().krylov_step_error
+        m = 4
+        while tail(theta, m) > budget / 8:
+            m += 1
+        self.m = m
+        self.tail = tail(theta, m)
+        # φ_k, ψ_k (module notes)
+        self.phi = np.array([sum(theta ** (i - k) / math.factorial(i) for i in range(k, m + 1))
+                             for k in range(m + 1)]) * (1 + 1e-12)
+        self.psi = np.array([sum(theta ** (i - 1 - k) / math.factorial(i) for i in range(k + 1, m + 1))
+                             for k in range(m + 1)]) * (1 + 1e-12)
+        self.switch = budget / 16 * data.energy
+        self._weights()
+        self.hi = np.zeros((m + 2, n))
+        self.lo = np.zeros((m + 2, n))
+        self._rest = np.zeros(4 * n)
+        self._lead = np.zeros(n)
+        self._low = np.zeros(n)
+        self._scratch = np.zeros(n)
+        self._sup = np.zeros(m + 2)
+        self._norms = np.zeros(m + 2)
+        self._stack = np.zeros((3 * (m + 1), n))
+        self._kernel = _csr_kernel()
+
+    # -- the next state's weights ------------------------------------------------------
+    def _weights(self) -> None:
+        """W'_k = W_k·2^(s_k) (2^(s_k) ≈ k!) as double-doubles, split at their grid."""
+        m, H = self.m, Fraction(self.data.H)
+        shifts = [round(math.log2(math.factorial(k))) for k in range(m + 1)]
+        exact = [[H * 2**s / math.factorial(k + 1) if k < m else Fraction(0),
+                  Fraction(2**s, math.factorial(k))] for k, s in enumerate(shifts)]
+        pairs = [[from_exact(v) for v in row] for row in exact]
+        wh = np.array([[p[0] for p in row] for row in pairs])
+        wl = np.array([[p[1] for p in row] for row in pairs])
+        self.scale = np.ldexp(1.0, -np.array(shifts))[:, None]
+        self.sum_bits = (53 - math.ceil(math.log2(m + 1))) // 2
+        largest = np.max(np.abs(wh), axis=0)
+        _, exponent = np.frexp(largest)
+        sigma = np.ldexp(1.5, exponent - self.sum_bits + 52)
+        w1 = (wh + sigma) - sigma
+        self.w1 = np.ascontiguousarray(w1)
+        self.w_rest = np.ascontiguousarray(np.vstack([(wh - w1) + wl, w1, wh]))
+        q, L = 2.0**-self.sum_bits, 3 * (m + 1)
+        gamma = L * U / (1 - L * U)
+        total = np.sum(np.abs(wh), axis=0)
+        omega = gamma * ((m + 1) * (q + U) * (1 + U) * largest + (q + U) * total
+                         + (m + 1) * q * q * largest) \
+            + U * (q + U) * (m + 1) * largest + (U * U + 2.0**-104) * total
+        self.omega = omega * (1 + 1e-9)   # per column (x, v): |g_ic| ≤ omega_c·colmax_i
+        # the float64 terms' weights W_k (unscaled) and their product's rounding
+        self.w_float = np.array([[float(H / math.factorial(k + 1)) if k < m else 0.0,
+                                  1 / math.factorial(k)] for k in range(m + 1)])
+        self.float_gamma = ((m + 2) * U / (1 - (m + 2) * U) + 2 * U) * (1 + 2 * U)
+
+    # -- the terms ----------------------------------------------------------------------
+    def terms(self, zh: np.ndarray, zl: np.ndarray) -> StepTerms:
+        """The terms of the step from ẑ = zh + zl and the bound on their rounding."""
+        d, m = self.data, self.m
+        n = d.n
+        hi, lo, sup, norms = self.hi, self.lo, self._sup, self._norms
+        hi[0], hi[1] = zh[:n], zh[n:]
+        lo[0], lo[1] = zl[:n], zl[n:]
+        lo[2:] = 0.0
+        for row in (0, 1):
+            sup[row] = self._row_sup(row)
+            norms[row] = math.sqrt(float(hi[row] @ hi[row]))
+        rounding = np.zeros(m + 1)
+        count = m
+        for k in range(1, m + 1):
+            rounding[k] = self._extended(d.first if k == 1 else d.later, k)
+            sup[k + 1] = self._row_sup(k + 1)
+            norms[k + 1] = math.sqrt(float(hi[k + 1] @ hi[k + 1]))
+            L = d.later
+            if k < m and (L.float_x * norms[k] + L.float_v * norms[k + 1]) * self.phi[k + 1] <= self.switch:
+                count = k
+                break
+        for k in range(count + 1, m + 1):      # the float64 terms
+            _csr_into(d.later.hi, hi[k - 1:k + 1].reshape(-1), hi[k + 1], self._kernel)
+        if count < m:
+            rows = hi[count + 2:]
+            norms[count + 2:] = np.sqrt(np.einsum("ij,ij->i", rows, rows))
+            sup[count + 2:] = np.max(np.abs(rows), axis=1)
+            L = d.later
+            rounding[count + 1:] = L.float_x * norms[count:m] + L.float_v * norms[count + 1:m + 1]
+        return StepTerms(hi, lo, count, float(self.phi @ rounding) * (1 + 1e-12),
+                         float(self.psi @ rounding) * (1 + 1e-12), sup.copy(),
+                         norms * (1 + 1e-12))
+
+    def _row_sup(self, row: int) -> float:
+        values = self.hi[row]
+        return max(float(values.max(initial=0.0)), -float(values.min(initial=0.0)))
+
+    def _extended(self, D: StepMatrix, k: int) -> float:
+        """Term k to about 2^-70 (module notes), into rows k + 1 of hi and lo; returns the
+        bound on N(f_k)."""
+        n = self.data.n
+        wh = self.hi[k - 1:k + 1].reshape(-1)
+        wl = self.lo[k - 1:k + 1].reshape(-1)
+        largest = max(self._sup[k - 1], self._sup[k])
+        norm_w = math.hypot(self._norms[k - 1], self._norms[k])
+        _, exponent = math.frexp(largest)
+        sigma = math.ldexp(1.5, exponent - D.bits + 52)
+        rest = self._rest
+        w1, c = rest[:2 * n], rest[2 * n:]
+        np.add(wh, sigma, out=w1)
+        np.subtract(w1, sigma, out=w1)          # the leading slices: exact
+        np.subtract(wh, w1, out=c)              # w₂, exact
+        np.add(c, wl, out=c)                    # w₂ + w_lo, rounded
+        lead, low, scratch = self._lead, self._low, self._scratch
+        _csr_into(D.sliced, w1, lead, self._kernel)
+        _csr_into(D.rest, rest, low, self._kernel)
+        s, e = self.hi[k + 1], self.lo[k + 1]   # two-sum of lead + low, in place
+        np.add(lead, low, out=s)
+        np.subtract(s, lead, out=scratch)
+        np.subtract(s, scratch, out=e)
+        np.subtract(lead, e, out=e)
+        np.subtract(low, scratch, out=scratch)
+        np.add(e, scratch, out=e)
+        norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
+        return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
+                + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12) \
+            + _TINY * math.sqrt(n * self.data.m_max)
+
+    # -- the next state ----------------------------------------------------------------
+    def advance(self, terms: StepTerms) -> tuple[np.ndarray, np.ndarray, float, float]:
+        """The state at the end of the step (hi, lo), and bounds on the energy norm and on
+        the max-norm of x of the rounding committed in the sum (the terms' own rounding is
+        in ``terms``).
+
+        U_0..U_e (e = ``terms.extended``: the double-double terms) are summed with the exact
+        split (module notes); the float64 terms after them, whose weighted sizes are small,
+        in one float64 product, off by (γ_m + 2u)·Σ_k |W_k||U_k|."""
+        d, m = self.data, self.m
+        n, e = d.n, terms.extended
+        rows = e + 1                       # U_0..U_e: rows 1..e+1 of hi
+        stack = self._stack[:3 * rows]
+        scaled = stack[:rows]
+        np.multiply(terms.hi[1:rows + 1], self.scale[:rows], out=scaled)
+        colmax = np.max(np.abs(scaled), axis=0)
+        _, exponent = np.frexp(colmax)
+        sigma = np.ldexp(1.5, exponent - self.sum_bits + 52)
+        lead = (scaled + sigma) - sigma
+        np.subtract(scaled, lead, out=stack[rows:2 * rows])
+        np.multiply(terms.lo[1:rows + 1], self.scale[:rows], out=stack[2 * rows:])
+        exact = lead.T @ self.w1[:rows]
+        weights = np.vstack([self.w_rest[k * (m + 1):k * (m + 1) + rows] for k in range(3)])
+        rest = stack.T @ weights
+        float_x = float_v = float_xinf = 0.0
+        if e < m:                          # the float64 terms U_{e+1}..U_m
+            tail_weights = self.w_float[e + 1:]
+            rest += terms.hi[e + 2:].T @ tail_weights
+            sizes = np.abs(tail_weights)
+            float_x, float_v = sizes.T @ terms.norms[e + 2:]
+            float_xinf = float(sizes[:, 0] @ terms.sup[e + 2:])
+            float_x, float_v, float_xinf = (self.float_gamma * v for v in (float_x, float_v, float_xinf))
+        sh, sl = two_sum(exact, rest)
+        xh, xl = dd_add(terms.hi[0], terms.lo[0], sh[:, 0], sl[:, 0])
+        vh, vl = sh[:, 1], sl[:, 1]
+        size2 = math.sqrt(float(colmax @ colmax)) + _TINY * math.sqrt(n)
+        top = float(colmax.max(initial=0.0)) + _TINY
+        rest_x = math.sqrt(float(rest[:, 0] @ rest[:, 0]))
+        rest_v = math.sqrt(float(rest[:, 1] @ rest[:, 1]))
+        g_x2 = (self.omega[0] * size2 + float_x + 2 * U * rest_x
+                + 2.0**-104 * (terms.norms[0] + math.sqrt(float(sh[:, 0] @ sh[:, 0]))))
+        g_v2 = self.omega[1] * size2 + float_v + 2 * U * rest_v
+        g_xinf = (self.omega[0] * top + float_xinf + 2 * U * float(np.max(np.abs(rest[:, 0]), initial=0.0))
+                  + 2.0**-104 * (terms.sup[0] + float(np.max(np.abs(sh[:, 0]), initial=0.0))))
+        energy = math.sqrt(d.m_max) * g_v2 + math.sqrt(d.norm_K) * g_x2
+        state_h = np.concatenate([xh, vh])
+        state_l = np.concatenate([xl, vl])
+        return state_h, state_l, energy * (1 + 1e-12), g_xinf * (1 + 1e-12)
+
+    # -- values inside the step --------------------------------------------------------
+    def values(self, terms: StepTerms, r: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
+        """x (order 0) or v (order 1) at b + r·H for each r in [0, 1), shape (len(r), n),
+        and a bound per time on the float64 rounding of the sums (module notes)."""
+        m, H = self.m, self.data.H
+        weights = np.empty((m + 1, r.size))
+        weights[0] = 1.0
+        for k in range(1, m + 1):
+            weights[k] = weights[k - 1] * (r / k)
+        if order == 0:            # x̂ + Σ_{k≥1} (r^k H/k!)·U_{k−1}: rows k of hi
+            weights[1:] *= H
+            rows, first = range(m, 0, -1), 0
+        else:                     # Σ_{k≥0} (r^k/k!)·U_k: rows k + 1
+            rows, first = range(m, -1, -1), 1
+        hi = terms.hi
+        top = rows[0]
+        acc = weights[top][:, None] * hi[top + first][None, :]
+        product = np.empty_like(acc)
+        bound = (3 * top + 4) * U * weights[top] * terms.sup[top + first]
+        for k in rows[1:]:
+            np.multiply(weights[k][:, None], hi[k + first][None, :], out=product)
+            np.add(acc, product, out=acc)
+            bound = bound + (3 * k + 4) * U * weights[k] * terms.sup[k + first]
+        if order == 0:
+            np.add(acc, hi[0][None, :], out=acc)
+            bound = bound + 3 * U * terms.sup[0]
+        return acc, bound * (1 + 2.0**-40) + _TINY
