@@ -5,8 +5,9 @@ The state z = (x, v) obeys z' = A z, A = [[0, I], [−M⁻¹K, −M⁻¹C]], hel
 into steps of length H (θ = H·ν ≤ Limits.krylov_step_norm, ν below); each step sums m
 terms of the Taylor series of exp(HA), one sparse product each, the large ones formed to
 about 2^-70 and the rest in float64 (:mod:`.krylov_steps`, :mod:`.krylov_data`). The cost
-is about m·t·ν/θ sparse products (8.5 per unit of t·ν), independent of the number of
-output times, which each cost one float64 sum of the step's terms.
+is about 12 sparse products per unit of t·ν at θ = 5 (a double-double term counting 2.5),
+independent of the number of output times, which each cost one float64 sum of the step's
+terms.
 
 The error bound (:meth:`KrylovMotion.evaluate`)
 -----------------------------------------------
@@ -96,19 +97,21 @@ def krylov_refusal(scene: Scene, *, t_max: float = 0.0, count: int = 0,
 
 
 #: Cost constants (seconds, one core of the development machine; see krylov_cost).
-_BUILD = (3e-3, 2.5e-6)            # fixed, per nonzero of M, C, K
-_STEP = (4e-4, 2.6e-5, 1.5e-8, 2e-9)  # per step: fixed, per term, per term·n, per term·nnz
-_TIME = (2e-5, 2.5e-9)             # per time: fixed, per term·n
+_BUILD = (1e-3, 5e-6)              # fixed, per nonzero of M, C, K (reading and checks)
+_STEP = (3e-4, 2.5e-9, 2e-8)       # per step: fixed, per term·nonzero, per term·coordinate
+_TIME = (2e-5, 2.5e-9)             # per time: fixed, per term·coordinate
 
 
 def krylov_cost(scene: Scene, *, t_max: float = 100.0, count: int = 100, order: int = 0) -> float:
     """Estimated seconds of building the engine and evaluating ``count`` times up to
     ``t_max`` (cheap: reads the entries once).
 
-    The model, fitted to chains and meshes of 1,000 to 10,000 masses (one core): building
-    3 ms + 2.5 µs per nonzero of M, C, K; then S = t_max/H + 1 steps of m terms each
-    (m ≈ 33 at θ = 4), a step costing 0.4 ms + m·(26 µs + 15 ns·n + 2 ns·nnz); and per
-    time 20 µs + 2.5 ns·m·n (a third more per derivative order).
+    The model (the planner's, :mod:`laplace_springs.planning.engines`), measured on chains
+    and meshes of 1,000 to 10,000 masses (one core): building 1 ms + 5 µs per nonzero of
+    M, C, K; then t_max/H + 1 steps of about 60 sparse-product equivalents each (m ≈ 37
+    terms at θ = 5, a third of them double-double at 2.5 products), a step costing
+    0.3 ms + 60·(2.5 ns·nnz + 20 ns·n); and per time 20 µs + 2.5 ns·m·n (a third more
+    per derivative order).
 
     >>> scene = Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0])
     >>> 0 < krylov_cost(scene, t_max=10.0, count=100) < 0.1
@@ -116,8 +119,8 @@ def krylov_cost(scene: Scene, *, t_max: float = 100.0, count: int = 100, order: 
     """
     n = scene.n
     nnz = sum(len(rational_entries(scene, name) or {}) for name in ("M", "C", "K"))
-    terms = 35.0
-    step = _STEP[0] + terms * (_STEP[1] + _STEP[2] * n + _STEP[3] * nnz)
+    products, terms = 60.0, 37.0
+    step = _STEP[0] + products * (_STEP[1] * nnz + _STEP[2] * n)
     per_time = (_TIME[0] + _TIME[1] * terms * n) * (1 + order / 3)
     return _BUILD[0] + _BUILD[1] * nnz + _steps(scene, t_max) * step + count * per_time
 

@@ -281,18 +281,22 @@ def _modal_cost(facts: SceneFacts, request: Request) -> Cost:
 
 
 def _krylov_cost(facts: SceneFacts, request: Request) -> Cost:
-    """Each Taylor step costs about 1.5 ms of fixed overhead (a few dozen vectorised
-    double-double products) plus 20 µs per coordinate (measured: 8-mass chain, 110 steps
-    0.15 s; 100-mass chain, 10,500 steps 53 s; 200-mass chain 0.23–0.44 s)."""
-    steps = _krylov_steps(facts, min(request.t_max, _krylov_horizon(facts, request)))
-    return Cost(1e-3 + 1e-6 * facts.nnz, steps * (1.5e-3 + 2e-5 * facts.n + 2e-7 * facts.nnz)
-                + _run(request, 2e-8, facts.n), _DOUBLE * 8 * (facts.nnz + facts.n))
+    """Steps of θ = Limits.krylov_step_norm, each about 60 sparse products (a third of them
+    double-double): 0.3 ms + 60·(2.5 ns per nonzero + 20 ns per coordinate) (measured,
+    θ = 4 to 5, one core, loaded machine: chains of 1,000 and 4,000 masses 1.8–3.4 and
+    8.6 ms per step, a 4,000-mass mesh 10 ms; a 2,000-mass Rayleigh chain 0.32–0.42 s in
+    all against the Chebyshev engine's 0.23–0.30 s); the build reads the entries and checks
+    them exactly (5 µs per nonzero: 4,000-mass mesh 0.13 s)."""
+    steps = _krylov_steps(facts, min(request.t_max, _krylov_horizon(facts, request))) + 1
+    return Cost(1e-3 + 5e-6 * facts.nnz, steps * (3e-4 + 60 * (2.5e-9 * facts.nnz + 2e-8 * facts.n))
+                + _run(request, 4e-8, facts.n), _DOUBLE * 8 * (facts.nnz + facts.n))
 
 
 def _krylov_expectation(facts: SceneFacts, request: Request) -> str | None:
-    """Its energy bound adds the rounding of every step: about 1e-14 + 4e-17 per step of
-    the solution's initial size (100-mass chain, 10,500 steps: 3.8e-13)."""
-    expected = 1e-14 + 4e-17 * _krylov_steps(facts, request.t_max)
+    """Its bound is the values' own float64 rounding, up to about 5e-14 of the scale at
+    θ = 5 (1,000-mass chain 2e-14, 10,000-mass mesh 4.4e-14 at t = 50), plus what every
+    step adds (taken as 4e-17 per step, the previous march's measured rate)."""
+    expected = 5e-14 + 4e-17 * _krylov_steps(facts, request.t_max)
     if expected <= request.target:
         return None
     return f"its bound is expected to miss the target ({expected:.1e} > {request.target:g})"
@@ -348,8 +352,8 @@ ENGINES: tuple[Engine, ...] = (
            _chebyshev_refusal, _chebyshev_cost, _chebyshev_horizon, precision=3e-14),
     Engine("modal", 0, "conditioned eigen-decomposition of the 2n x 2n first-order matrix",
            _modal_refusal, _modal_cost, expectation=_modal_expectation, precision=8e-14),
-    Engine("krylov", 0, "double-double Taylor steps of the sparse first-order system, "
-           "bounded through the energy", _krylov_refusal, _krylov_cost, _krylov_horizon,
+    Engine("krylov", 0, "Taylor steps of the sparse first-order system (leading terms in "
+           "double-double), bounded through the energy", _krylov_refusal, _krylov_cost, _krylov_horizon,
            expectation=_krylov_expectation, precision=2e-14),
     Engine("exact", 0, "exact partial fractions, float64 pole sums", _exact_refusal,
            _exact_cost, precision=2e-15),
