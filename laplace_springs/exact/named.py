@@ -142,6 +142,11 @@ class NamedNumber(NamedQuantity):
     def eval(cls, *args):
         return None
 
+    @classmethod
+    def class_key(cls):
+        """Printed sums list c_2 before c_10 (the index compared as a number)."""
+        return 4, 0, f"{cls.base}_{cls.index:09d}"
+
     def _eval_evalf(self, prec):
         value = self.value(prec)
         if isinstance(value, mpmath.mpc):

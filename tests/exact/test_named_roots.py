@@ -135,6 +135,9 @@ def test_formula_is_small_enough_to_read():
         assert len(row) == 12  # one damped oscillation per root pair
         assert sp.count_ops(expr) <= 12 * len(row)
         assert len(str(expr)) <= 70 * len(row)
+    text = str(sol.x[0])  # the roots in order of frequency, c_2 before c_10
+    places = [text.index(f"exp(t*alpha_{j})") for j in range(1, 13)]
+    assert places == sorted(places)
     shown = {q: value for q, value in sol.definitions.items() if isinstance(q, NamedNumber)}
     assert len(shown) == 12 * 3 + 12 * 12 * 2  # ρ, α, β per pair; c per term and part
     assert all(len(str(value)) < 100 for value in shown.values())
