@@ -59,6 +59,12 @@ class Limits:
     #: Largest scene the tiny engine (closed-form float64 poles with a residual bound)
     #: takes: its 2n x 2n eigenproblem is cheaper than python-control's set-up up to here.
     tiny_max_coordinates: int = 4
+    #: Largest magnitude (its reciprocal the smallest nonzero one) of an entry of M⁻¹K,
+    #: M⁻¹C and the initial data the tiny engine takes: its closed forms square and
+    #: multiply them (the discriminant c²/4m², the initial acceleration and jerk), which
+    #: must stay inside float64's range (1e±308). Beyond it (a mass of 1e-300 on a spring
+    #: of 1e300) the certified and exact engines serve.
+    tiny_max_magnitude: float = 1e100
     #: Largest scene the exact route serves as a fallback or escalation (symbolic work
     #: grows fast with the degree of Δ's irreducible factors).
     exact_fallback_max_coordinates: int = 8
@@ -256,6 +262,13 @@ class Limits:
     max_file_bytes: int = 16 * 2**20
     #: Largest CSV file read (about 2 million rows of two numbers).
     max_csv_bytes: int = 64 * 2**20
+    #: Most declared parameters of a scene ([parameters] in a scene file, parameters=...):
+    #: declaring costs about 3 µs each (10⁴ load in 0.3 s, 10⁶ took over 20 s), and no
+    #: symbolic solve uses more than a few dozen.
+    max_parameters: int = 10_000
+    #: Most samples of one sampled force history (ls.sampled, a CSV column): 16 bytes each.
+    #: One mass, 100 s of data: 10⁶ samples solve and evaluate in 12 s, 10⁷ in 62 s.
+    max_samples: int = 2_000_000
     #: Most atoms c·t^k·e^{zt} a forcing entry may expand into (a cosine counts 2, a step
     #: 2), estimated from the expression before it is expanded (model/forcing_size.py).
     #: Measured on one mass, exact route: 128 cosines of distinct frequencies (256) build in
@@ -274,13 +287,6 @@ class Limits:
     #: solve forms. 12 cosines with distinct phases build and solve in 3.5 s (one mass),
     #: 16 in 13 s, 24 in 30 s.
     max_forcing_constants: int = 12
-    #: Most declared parameters of a scene ([parameters] in a scene file, parameters=...):
-    #: declaring costs about 3 µs each (10⁴ load in 0.3 s, 10⁶ took over 20 s), and no
-    #: symbolic solve uses more than a few dozen.
-    max_parameters: int = 10_000
-    #: Most samples of one sampled force history (ls.sampled, a CSV column): 16 bytes each.
-    #: One mass, 100 s of data: 10⁶ samples solve and evaluate in 12 s, 10⁷ in 62 s.
-    max_samples: int = 2_000_000
 
     # -- output: animations, worked-example pages, the explorer ----------------------------
     #: Most masses an animation draws; a larger scene animates a chosen subset (by default

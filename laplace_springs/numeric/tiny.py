@@ -190,8 +190,33 @@ def _read(scene: Scene) -> TinyData | str:
     zero = fmpq(0)
     x0_exact = tuple(x0.get((i, 0), zero) for i in range(n))
     v0_exact = tuple(v0.get((i, 0), zero) for i in range(n))
-    return TinyData(n, M, C, K, x0_exact, v0_exact, np.array([float(v) for v in x0_exact]),
+    data = TinyData(n, M, C, K, x0_exact, v0_exact, np.array([float(v) for v in x0_exact]),
                     np.array([float(v) for v in v0_exact]))
+    return _range_refusal(data) or data
+
+
+def _range_refusal(data: TinyData) -> str | None:
+    """Why the scene's numbers are beyond the engine's float64 closed forms, or None: every
+    nonzero entry of M⁻¹K, M⁻¹C, x0 and v0 within Limits.tiny_max_magnitude^{±1}."""
+    most = limits().tiny_max_magnitude
+    high = fmpq(*float(most).as_integer_ratio())
+    low = 1 / high
+    A, B = data.normalized()
+    named = [("M⁻¹K", A.values()), ("M⁻¹C", B.values()), ("x0", data.x0_exact),
+             ("v0", data.v0_exact)]
+    for name, values in named:
+        for value in values:
+            if value != 0 and not low <= abs(value) <= high:
+                return (f"an entry of {name} is about {_magnitude(value)}, beyond "
+                        f"Limits.tiny_max_magnitude = {most:g} (or its reciprocal): the "
+                        "float64 closed forms would overflow")
+    return None
+
+
+def _magnitude(value: Any) -> str:
+    """|value| as a power of ten (it need not be a float64 number)."""
+    p, q = abs(int(value.p)), int(value.q)
+    return f"1e{len(str(p)) - len(str(q)):+d}"
 
 
 def tiny_data(scene: Scene) -> TinyData | str:
