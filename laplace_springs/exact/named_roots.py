@@ -225,7 +225,11 @@ def _complex(z: flint.acb) -> complex:
 
 
 def _nearest(roots: Sequence[flint.acb], w: flint.acb) -> flint.acb:
-    """The enclosure in ``roots`` nearest to ``w`` (the same root, refined)."""
+    """The enclosure in ``roots`` of the root that ``w`` isolates (the one it overlaps:
+    flint's enclosures isolate the roots), else the nearest."""
+    overlapping = [z for z in roots if z.overlaps(w)]
+    if len(overlapping) == 1:
+        return overlapping[0]
     target = _complex(w)
     return min(roots, key=lambda z: abs(_complex(z) - target))
 
