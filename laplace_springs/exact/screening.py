@@ -42,6 +42,7 @@ from ..model.forcing import input_transform
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
+from .named_roots import free_rational
 from .rational import RationalPencil, fmpq_of, initial_vector, rational_pencil, solve_at_integers
 
 __all__ = ["screen_scene", "exact_refusal"]
@@ -151,6 +152,8 @@ def exact_refusal(scene: Scene) -> str | None:
             "larger free numeric scenes, within their own limits")
     if 2 * n <= limits().max_exact_factor_degree:
         return None  # no factor of Δ can be too large
+    if free_rational(scene):
+        return None  # named roots: exact terms at any degree (exact/named_roots.py)
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
     everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
     entries = [e for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m]

@@ -38,6 +38,7 @@ from typing import Any
 
 import mpmath
 import numpy as np
+from flint import fmpq, fmpq_mat
 
 from ..kernels.batch import rows_product
 from ..kernels.dd import U, dd_add, dd_mul, dd_sum, from_exact, two_prod, two_sum
@@ -156,8 +157,6 @@ def taylor_matrices(entries: list[list[Any]]) -> TaylorMatrices:
     hi = np.zeros((DEGREE + 1, m, m))
     lo = np.zeros_like(hi)
     if rational is not None:
-        from flint import fmpq, fmpq_mat
-
         X = fmpq_mat(m, m, [v for row in rational for v in row])
         power = fmpq_mat(m, m, [fmpq(int(i == j)) for i in range(m) for j in range(m)])
         factorial = 1
@@ -188,8 +187,6 @@ def taylor_matrices(entries: list[list[Any]]) -> TaylorMatrices:
 
 def _as_fmpq(entries: list[list[Any]]) -> list[list[Any]] | None:
     """The entries as python-flint fmpq when every one is rational, else None."""
-    from flint import fmpq
-
     out = []
     for row in entries:
         converted = []
