@@ -23,8 +23,9 @@ import sympy as sp
 from sympy.polys.rootoftools import ComplexRootOf
 
 from ..exact.algebraic import AlgebraicRoot
+from ..exact.named import NamedNumber, NamedQuantity
 
-__all__ = ["mp_value", "numeric_value"]
+__all__ = ["mp_size", "mp_value", "numeric_value"]
 
 #: Guard digits are doubled while two evaluations disagree, up to this many.
 _MAX_GUARD = 4000
@@ -67,6 +68,10 @@ def _evaluate(expr: sp.Expr, cache: dict, dps: int):
         value = mpmath.mpf(int(expr.p)) / int(expr.q)
     elif isinstance(expr, ComplexRootOf):
         value = _root(expr, dps)
+    elif isinstance(expr, NamedNumber):  # certified digits at the working precision
+        value = expr.value(mpmath.mp.prec)
+    elif isinstance(expr, NamedQuantity) and not expr.free_symbols:
+        value = _evaluate(expr.definition, cache, dps)
     elif expr.is_Add:
         value = mpmath.fsum(_evaluate(a, cache, dps) for a in expr.args)
     elif expr.is_Mul:
@@ -144,6 +149,38 @@ def mp_value(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     except (_Unsupported, TypeError, ValueError):
         pass
     return _fallback(expr, dps)
+
+
+def mp_size(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
+    """|expr| to ``dps`` digits *absolute* (or relative, if larger): what a residual that
+    should vanish needs. :func:`mp_value` asks for relative digits, which a value of
+    exactly 0 never gives (its guard doubles to the limit, then SymPy's evalf runs).
+
+    Two evaluations at ``dps + g`` and ``dps + 2g`` digits must agree within
+    10^-dps·max(1, |value|); g doubles until they do.
+
+    >>> import sympy as sp
+    >>> r = sp.sqrt(2)
+    >>> float(mp_size(r**2 - 2, 40)) < 1e-40
+    True
+    """
+    caches = {} if caches is None else caches
+    expr = sp.sympify(expr)
+    guard = 30
+    try:
+        low = _at_or_none(expr, dps + guard, caches)
+        while guard <= _MAX_GUARD:
+            high = _at_or_none(expr, dps + 2 * guard, caches)
+            if low is not None and high is not None:
+                with mpmath.workdps(dps + 10):
+                    if abs(low - high) <= mpmath.mpf(10) ** (-dps) * max(1, abs(high)):
+                        return abs(high)
+            low, guard = high, 2 * guard
+    except (_Unsupported, TypeError, ValueError):
+        pass
+    size = sp.Abs(numeric_value(expr, dps))   # SymPy's adaptive evalf: complex values too
+    with mpmath.workdps(dps):
+        return mpmath.mpf(sp.Float(size, dps)._mpf_)
 
 
 def _at_or_none(expr: sp.Expr, dps: int, caches: dict):

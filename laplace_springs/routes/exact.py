@@ -31,7 +31,7 @@ from ..limits import limits
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
-from ..numeric.mp_expr import mp_value, numeric_value
+from ..numeric.mp_expr import mp_size, mp_value, numeric_value
 from ..numeric.pole_sum import two_diff
 from ..numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
 from ..numeric.times import Times
@@ -422,7 +422,7 @@ def _size(exprs: Sequence[Any], values: dict, dps: int) -> float:
     for e in exprs:
         expr = sp.sympify(e).xreplace(values)
         try:
-            size = float(abs(mp_value(expr, dps, caches)))
+            size = float(mp_size(expr, dps, caches))
         except (TypeError, ValueError):
             size = float(abs(numeric_value(expr, dps)))
         out = max(out, size)
