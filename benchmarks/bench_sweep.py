@@ -200,7 +200,7 @@ def part_two(P: int) -> None:
     loop_total = runs["loop"]["seconds"] * P / count
     print(f"Part 2: {P:,} sets x {TIMES_CHAIN.size} times, {N_CHAIN}-mass chain (k, c at the wall); "
           f"route {runs['sweep']['route']}")
-    print(f"  {'':<44}{'time [s]':>10}{'peak memory [MB]':>18}")
+    print(f"  {'':<44}{'time [s]':>10}  {'peak memory [MB]':<26}")
     rows = [("ls.sweep, one worker (bounds on every value)", runs["sweep"]),
             ("hand-written batched numpy.linalg.eig", runs["handwritten"]),
             (f"loop of ls.solve ({count} sets, x {P // count})", {"seconds": loop_total,
@@ -211,7 +211,7 @@ def part_two(P: int) -> None:
         memory = f"{run['peak_mb']:.0f}"
         if "worker_peak_mb" in run:
             memory += f" (workers {run['worker_peak_mb']:.0f})"
-        print(f"  {name:<44}{run['seconds']:>10.1f}{memory:>18}")
+        print(f"  {name:<44}{run['seconds']:>10.1f}  {memory:<26}")
     print(f"  ratio ls.sweep / hand-written: one worker {runs['sweep']['seconds'] / runs['handwritten']['seconds']:.2f}, "
           f"2 workers {runs['dask-sweep']['seconds'] / runs['dask-handwritten']['seconds']:.2f}; "
           f"loop of ls.solve / ls.sweep: {loop_total / runs['sweep']['seconds']:.0f}")
