@@ -36,7 +36,7 @@ from sympy.core.function import AppliedUndef
 from ..limits import limits
 from .errors import LimitError, SceneError
 from .forcing_size import check_forcing_size
-from .numbers import ALLOWED_FUNCTIONS, parse_expression, to_exact
+from .numbers import ALLOWED_FUNCTIONS, check_depth, parse_expression, to_exact
 from .periodic import PERIODIC_FUNCTIONS, Periodic, common_period
 from .sampled import Sampled
 from .switching import SwitchCondition, UndecidableOrder, latest_delay, sorted_delays, switch_conditions
@@ -109,7 +109,8 @@ def parse_forcing(value: Any, entry: str, parameters: Mapping[str, sp.Symbol] | 
                                 allowed_functions={**ALLOWED_FUNCTIONS, **PERIODIC_FUNCTIONS})
         check_forcing_size(expr, entry)
     elif isinstance(value, sp.Basic):
-        check_forcing_size(value, entry)  # before any work on it: SymPy input has no text limits
+        check_depth(value, entry)  # SymPy input has no text limits: its nesting and size
+        check_forcing_size(value, entry)  # are checked before any work on it
         time_like = [s for s in value.free_symbols if isinstance(s, sp.Symbol) and s.name == "t"]
         _refuse_unknown_functions(value, entry)
         expr = to_exact(value.xreplace(dict.fromkeys(time_like, t)), entry)

@@ -46,6 +46,7 @@ __all__ = [
     "ASSUMPTIONS",
     "MAX_MAGNITUDE",
     "TIME",
+    "check_depth",
     "declare_parameters",
     "generic_values",
     "shown",
@@ -566,12 +567,31 @@ def _magnitude(value: sympy.Expr) -> sympy.Expr | None:
     if value.is_Rational:
         return abs(value)
     if value.free_symbols:
-        value = value.xreplace(generic_values(value.free_symbols))
+        value = value.xreplace(_magnitude_values(value))
     try:
         number = sympy.Abs(value).evalf(15, maxn=400)
     except (ValueError, TypeError, ArithmeticError, RecursionError):
         return None
     return number if number.is_Number else None
+
+
+#: Above this integer exponent of an expression in symbols, :func:`_magnitude` puts
+#: 50-digit floats in place of the generic rationals: ``t**1000000`` at t = 97/89 is a
+#: rational of 13 million bits (5 s to form and divide), its float is formed at once.
+_EXACT_POWER = 1000
+
+
+def _magnitude_values(value: sympy.Expr) -> dict[sympy.Symbol, sympy.Expr]:
+    """The generic values of ``value``'s symbols: exact, or as floats for huge powers."""
+    exact = generic_values(value.free_symbols)
+    if any(power.exp.is_Integer and abs(power.exp) > _EXACT_POWER for power in value.atoms(sympy.Pow)):
+        return {symbol: sympy.Float(number, 50) for symbol, number in exact.items()}
+    return exact
+
+
+def _shown_values(values: Mapping[sympy.Symbol, sympy.Expr]) -> str:
+    """``t = 97/89, k = 55/48``: the generic values a magnitude was taken at."""
+    return ", ".join(f"{symbol} = {number}" for symbol, number in values.items())
 
 
 def _order(number: sympy.Expr) -> str:
@@ -598,7 +618,8 @@ def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.E
     if magnitude is None or magnitude.is_zero:
         return value
     if not 1 / MAX_MAGNITUDE <= magnitude <= MAX_MAGNITUDE:
-        raise SceneError(f"{entry}: {shown_value} has magnitude {_order(magnitude)}, beyond "
+        where = f" at {_shown_values(generic_values(value.free_symbols))}" if value.free_symbols else ""
+        raise SceneError(f"{entry}: {shown_value} has magnitude {_order(magnitude)}{where}, beyond "
                          f"the limit 1e-300 <= |value| <= 1e300 (MAX_MAGNITUDE) that float64 "
                          f"evaluation can honour")
     return value
@@ -635,10 +656,39 @@ def _decimal_to_rational(value: decimal.Decimal, entry: str, shown: object) -> s
     return _fraction_to_rational(fractions.Fraction(value))
 
 
+def check_depth(value: sympy.Basic, entry: str) -> None:
+    """Refuse a SymPy expression nested deeper than Limits.max_nesting_depth, as text is
+    refused by the parser: SymPy's own recursive walks (``free_symbols``, ``xreplace``)
+    fail on it with RecursionError (sin(sin(...)) 500 deep). The walk is iterative.
+
+    Examples
+    --------
+    >>> deep = TIME
+    >>> for _ in range(200):
+    ...     deep = sympy.sin(deep, evaluate=False)
+    >>> check_depth(deep, "forcing[0]")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: forcing[0]: the expression is nested more than 100 levels deep (Limits.max_nesting_depth)
+    """
+    most = limits().max_nesting_depth
+    stack: list[tuple[sympy.Basic, int]] = [(value, 1)]
+    deepest: dict[int, int] = {}  # a shared subexpression is walked again only deeper
+    while stack:
+        node, depth = stack.pop()
+        if depth > most:
+            raise SceneError(f"{entry}: the expression is nested more than {most} levels deep "
+                             f"(Limits.max_nesting_depth)")
+        if node.args and deepest.get(id(node), 0) < depth:
+            deepest[id(node)] = depth
+            stack.extend((arg, depth + 1) for arg in node.args)
+
+
 def _sympy_to_exact(value: sympy.Basic, entry: str) -> sympy.Expr:
     """Pass a SymPy expression through, with every Float made an exact Rational."""
     if not isinstance(value, sympy.Expr) or isinstance(value, sympy.MatrixBase):
         raise SceneError(f"{entry}: expected a number, got {value!r}")
+    check_depth(value, entry)
     _require_finite(value, entry, value)
     floats = value.atoms(sympy.Float)
     if floats:
@@ -852,6 +902,20 @@ def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> N
                          f"{known.assumptions0} and {symbol.assumptions0}); use one")
 
 
+def _free_symbols(item: sympy.Basic) -> set[sympy.Basic]:
+    """``item.free_symbols``, after :func:`check_depth` for an expression; a matrix (whose
+    walk would cost a second at 10⁵ coordinates) has SymPy's RecursionError named."""
+    where = "a SymPy expression in the data"
+    if not isinstance(item, sympy.MatrixBase):
+        check_depth(item, where)
+        return set(item.free_symbols)
+    try:
+        return set(item.free_symbols)
+    except RecursionError:
+        raise SceneError(f"{where}: an entry of a matrix is nested too deeply for SymPy "
+                         f"(Limits.max_nesting_depth = {limits().max_nesting_depth} levels)") from None
+
+
 def _symbols_in(objects: Iterable[object], depth: int = 0) -> set[sympy.Symbol]:
     """The Symbols (but ``t``) of the SymPy objects in nested containers, depth-limited."""
     found: set[sympy.Symbol] = set()
@@ -859,7 +923,7 @@ def _symbols_in(objects: Iterable[object], depth: int = 0) -> set[sympy.Symbol]:
         return found
     for item in objects:
         if isinstance(item, sympy.Basic):
-            found |= {symbol for symbol in item.free_symbols
+            found |= {symbol for symbol in _free_symbols(item)
                       if isinstance(symbol, sympy.Symbol) and symbol.name != "t"}
         elif isinstance(item, numpy.ndarray):
             if item.dtype == object:

@@ -362,7 +362,7 @@ def _resolve(reg: Any, text: str) -> Unit:
 
 def _is_quantity(value: object) -> bool:
     """Whether ``value`` is a pint Quantity (checked without importing pint)."""
-    module = type(value).__module__
+    module = getattr(type(value), "__module__", None) or ""  # None for SymPy's f(t) of Function("f")
     return (module == "pint" or module.startswith("pint.")) and hasattr(value, "magnitude") \
         and hasattr(value, "units")
 
