@@ -296,6 +296,10 @@ class Limits:
     #: Most frames of one animation (a 12-second clip at 25 frames per second): each frame
     #: is a PNG of 20-60 kB in an inline (to_jshtml) animation.
     animation_max_frames: int = 300
+    #: Most pixels of one animation frame (the figure's size in inches times dpi, squared):
+    #: the 9 x 6.5 inch figure renders 0.37 Mpx (80 dpi) in 0.22 s a frame, 2.3 Mpx (200
+    #: dpi) in 0.53 s, 9.4 Mpx (400 dpi) in 1.7 s; dpi = 1e9 failed inside matplotlib.
+    animation_max_frame_pixels: int = 4_000_000
     #: Most parameter sets a worked-example page precomputes for its sliders (each set is
     #: n x 121 float32 values in base64, about 650 bytes per coordinate in the page).
     page_max_grid_sets: int = 400

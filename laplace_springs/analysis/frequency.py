@@ -14,7 +14,7 @@ of the masses' motion to the support's, X(λ)/U(λ) = (λ²M + λC + K)⁻¹ (K_
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, overload
 
 import numpy as np
@@ -82,14 +82,30 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
         at = {lam: sp.I * omega}
         delta = sp.expand(R.determinant.as_expr().xreplace(at))
         return sp.ImmutableMatrix(R.adjugate.applyfunc(lambda e: sp.expand(e.xreplace(at)) / delta))
-    w = _frequencies(frequencies_to_rad_per_second(omegas), "frequency_response")
-    eye = np.broadcast_to(np.eye(scene.n, dtype=complex), (w.size, scene.n, scene.n))
-    return _solve_pencils(scene, w, eye, "frequency_response")
+    w = _frequencies(frequencies_to_rad_per_second(omegas), "frequency_response", scene.n * scene.n)
+    eye = np.eye(scene.n, dtype=complex)
+    return _solve_pencils(scene, w, scene.n, lambda part: np.broadcast_to(eye, (part.size, *eye.shape)),
+                          "frequency_response")
 
 
-def _frequencies(omegas: Any, caller: str) -> np.ndarray:
+def _check_size(count: int, per_frequency: int, caller: str) -> None:
+    """Refuse more than Limits.max_evaluation_values values before any work."""
+    most = limits().max_evaluation_values
+    if count * per_frequency > most:
+        raise LimitError(f"{caller}: {count:,} frequencies x {per_frequency:,} values each = "
+                         f"{count * per_frequency:,} values, more than Limits.max_evaluation_values = "
+                         f"{most:,}; give at most {max(most // per_frequency, 1):,} frequencies per call")
+
+
+def _frequencies(omegas: Any, caller: str, per_frequency: int) -> np.ndarray:
     """Driving frequencies as a flat float64 array, each finite (a SceneError naming the
-    first that is not, or that is not a real number)."""
+    first that is not, or that is not a real number); their number is held to
+    Limits.max_evaluation_values / ``per_frequency`` before they are converted."""
+    size = getattr(omegas, "size", None)
+    if isinstance(size, (int, np.integer)):
+        _check_size(int(size), per_frequency, caller)
+    elif isinstance(omegas, (list, tuple)):
+        _check_size(len(omegas), per_frequency, caller)
     try:
         w = np.atleast_1d(np.asarray(omegas, dtype=float))
     except (TypeError, ValueError, OverflowError):
@@ -103,8 +119,10 @@ def _frequencies(omegas: Any, caller: str) -> np.ndarray:
     return w
 
 
-def _solve_pencils(scene: Scene, w: np.ndarray, rhs: np.ndarray, caller: str) -> np.ndarray:
-    """(K − ω²M + iωC)⁻¹ rhs[k] for each ω = w[k], in float64, with ω² never formed.
+def _solve_pencils(scene: Scene, w: np.ndarray, columns: int,
+                   rhs: Callable[[np.ndarray], np.ndarray], caller: str) -> np.ndarray:
+    """(K − ω²M + iωC)⁻¹ B(ω) for each ω = w[k], in float64, with ω² never formed;
+    ``rhs(part)`` gives the n x ``columns`` right-hand sides B of the frequencies ``part``.
 
     Above ω = 1 the pencil is divided by ω² (K/ω/ω − M + iC/ω) and the solution by ω twice,
     so ω up to the float64 range gives finite values; a value that underflows (|H| below
@@ -114,18 +132,14 @@ def _solve_pencils(scene: Scene, w: np.ndarray, rhs: np.ndarray, caller: str) ->
     Limits.max_evaluation_values before any work, and the pencils are formed and solved
     in chunks of about Limits.evaluation_chunk_values numbers.
     """
-    n, columns = scene.n, rhs.shape[-1]
-    most = limits().max_evaluation_values
-    if w.size * n * columns > most:
-        raise LimitError(f"{caller}: {w.size:,} frequencies x {n:,} x {columns:,} = "
-                         f"{w.size * n * columns:,} values, more than Limits.max_evaluation_values = "
-                         f"{most:,}; give at most {max(most // (n * columns), 1):,} frequencies per call")
+    n = scene.n
+    _check_size(w.size, n * columns, caller)
     M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
     out = np.empty((w.size, n, columns), dtype=complex)
     step = max(1, limits().evaluation_chunk_values // (n * n))
     for start in range(0, w.size, step):
         part = slice(start, start + step)
-        out[part] = _solve_chunk(M, C, K, w[part], rhs[part], caller)
+        out[part] = _solve_chunk(M, C, K, w[part], rhs(w[part]), caller)
     return out
 
 
@@ -363,11 +377,13 @@ def transmissibility(scene: Scene, omegas: ArrayLike | None = None, support: str
                 row.append(sp.sqrt(sp.cancel(sp.expand(P.xreplace({omega: w})) / denominator)))
             table.append(row)
         return sp.ImmutableMatrix(table)
-    w = _frequencies(frequencies_to_rad_per_second(omegas), "transmissibility")  # "2 Hz" is 4π rad/s
+    w = _frequencies(frequencies_to_rad_per_second(omegas), "transmissibility", scene.n)  # "2 Hz" is 4π rad/s
     Ks, Cs = (float_matrix(column, name).ravel() for column, name in
               zip(support_columns(scene, support), ("K_s", "C_s")))
-    drives = Ks[None, :] + 1j * w[:, None] * Cs[None, :]
-    X = _solve_pencils(scene, w, drives[:, :, None], "transmissibility")[:, :, 0]
+    def drives(part: np.ndarray) -> np.ndarray:
+        return (Ks[None, :] + 1j * part[:, None] * Cs[None, :])[:, :, None]
+
+    X = _solve_pencils(scene, w, 1, drives, "transmissibility")[:, :, 0]
     return np.abs(X[:, rows])
 
 

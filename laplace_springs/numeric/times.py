@@ -23,7 +23,7 @@ import numpy as np
 import sympy as sp
 
 from ..limits import limits
-from ..model.errors import SceneError
+from ..model.errors import LimitError, SceneError
 from ..model.numbers import to_exact
 from ..model.units import times_to_seconds
 
@@ -128,6 +128,9 @@ def as_times(times: object) -> Times:
     ------
     ValueError
         For NaN, an infinity, a negative time or a non-number, naming the entry.
+    LimitError
+        For more than :attr:`~laplace_springs.limits.Limits.max_times` times, before any
+        is read.
 
     Examples
     --------
@@ -139,6 +142,7 @@ def as_times(times: object) -> Times:
     ...
     ValueError: times[1] must be finite, got nan
     """
+    _check_count(times)
     times = times_to_seconds(times)
     numeric = times if isinstance(times, np.ndarray) else _plain_numbers(times)
     if numeric is not None and numeric.dtype.kind in "fiu":
@@ -160,6 +164,21 @@ def as_times(times: object) -> Times:
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
         raise ValueError(f"times[{i}] = {values[i]!r} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
+
+
+def _check_count(times: object) -> None:
+    """Refuse more than Limits.max_times times before any is converted or copied."""
+    if isinstance(times, (str, bytes)):
+        return
+    size = getattr(times, "size", None)  # a NumPy array, or a pint Quantity of one
+    try:
+        count = int(size) if isinstance(size, (int, np.integer)) else len(times)  # type: ignore[arg-type]
+    except TypeError:
+        return  # a scalar, or an iterable without a length (checked as it is read)
+    most = limits().max_times
+    if count > most:
+        raise LimitError(f"{count:,} times, more than Limits.max_times = {most:,} in one evaluation; "
+                         f"evaluate them in chunks of at most {most:,} times")
 
 
 def _plain_numbers(times: object) -> np.ndarray | None:

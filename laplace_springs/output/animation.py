@@ -237,11 +237,22 @@ class SceneAnimation:
 
     def _write(self, writer: Any, path: Path, dpi: float | None) -> None:
         """Render every frame once into ``writer`` (no FuncAnimation event loop)."""
-        with writer.saving(self.figure, str(path), dpi or self.figure.dpi):
+        with writer.saving(self.figure, str(path), self._dpi(dpi)):
             for k in range(len(self.times)):
                 self.frame(k)
                 writer.grab_frame()
         self.frame(0)
+
+    def _dpi(self, dpi: object) -> float:
+        """``dpi`` (the figure's when None) if it is a finite positive number giving frames
+        of at most Limits.animation_max_frame_pixels pixels, else a SceneError."""
+        if dpi is None:
+            dpi = float(self.figure.dpi)
+        if isinstance(dpi, bool) or not isinstance(dpi, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(dpi) or dpi <= 0:
+            raise SceneError(f"animation: dpi must be a positive number, got {dpi!r}")
+        _check_frame(self.figure, float(dpi))
+        return float(dpi)
 
     def save(self, path: str | Path, *, dpi: float | None = None) -> Path:
         """Write the animation: ``.gif`` (pillow), ``.mp4`` (ffmpeg) or ``.html`` (to_jshtml).
@@ -407,10 +418,29 @@ def _fine_times(solution: Motion, times: np.ndarray) -> np.ndarray:
     return fine
 
 
+def _check_frame(figure: Any, dpi: float) -> None:
+    """Refuse frames of more than Limits.animation_max_frame_pixels pixels at ``dpi``."""
+    width, height = (float(v) for v in figure.get_size_inches())
+    pixels, most = width * height * dpi**2, limits().animation_max_frame_pixels
+    if pixels > most:
+        largest = math.sqrt(most / (width * height))
+        raise SceneError(f"animation: {width:g} x {height:g} inches at dpi = {dpi:g} gives frames of "
+                         f"{pixels:,.0f} pixels, more than Limits.animation_max_frame_pixels = "
+                         f"{most:,}; use dpi <= {largest:.3g} or a smaller figsize")
+
+
 def _figure(orientation: str, curves: bool, figsize: tuple[float, float] | None) -> tuple[Any, Any, Any]:
     """A figure (outside pyplot) with the diagram's axes and, optionally, the curves' axes."""
     from matplotlib.figure import Figure
 
+    if figsize is not None:
+        try:
+            width, height = (float(v) for v in figsize)
+        except (TypeError, ValueError):
+            raise SceneError(f"animate: figsize must be (width, height) in inches, got {figsize!r}") from None
+        if not (math.isfinite(width) and math.isfinite(height) and width > 0 and height > 0):
+            raise SceneError(f"animate: figsize must be two positive numbers (inches), got {figsize!r}")
+        _check_frame(Figure(figsize=(width, height)), float(Figure().dpi))
     horizontal = orientation == "horizontal"
     if not curves:
         figure = Figure(figsize=figsize or ((9.0, 3.2) if horizontal else (4.0, 6.5)), layout="constrained")

@@ -325,7 +325,9 @@ def _refined_cost(facts: SceneFacts, request: Request) -> Cost:
 def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
     n = facts.n  # damped chains: 8 coordinates 2.9 s, 12 coordinates 13 s
     build = 0.02 if n <= 2 else 2.9 * (n / 8) ** 4
-    return Cost(build, _run(request, 2e-6, n))
+    # per time and coordinate: 1.6-2.2 us unforced or with cos(t), 8-10 us with a square
+    # wave (one or two masses, 10^5 times)
+    return Cost(build, _run(request, 1e-5 if facts.periodic else 2e-6, n))
 
 
 def _mp_cost(facts: SceneFacts, request: Request) -> Cost:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from ..limits import limits
+from ..model.periodic import Periodic
 from ..model.scene import Scene
 from ..numeric.chebyshev import rayleigh_coefficients
 from ..numeric.classical import classical_damping
@@ -82,6 +83,9 @@ class SceneFacts:
         A verified upper bound on every |λ| with det(λ²M + λC + K) = 0 (same condition).
     sampled : bool
         A force is a sampled history.
+    periodic : bool
+        A force is periodic (its pole sums reduce t modulo the period: about five times
+        the work per time of a formula force).
     quotes : tuple of Quote
         The answers of engine modules that decide from the scene itself (the refined
         engine: its products depend on the sparsity of K).
@@ -100,6 +104,7 @@ class SceneFacts:
     stiffness_bound: float | None = None
     pole_bound: float | None = None
     sampled: bool = False
+    periodic: bool = False
     quotes: tuple[Quote, ...] = ()
 
     def quote(self, engine: str) -> Quote | None:
@@ -164,7 +169,8 @@ def _facts(scene: Scene) -> SceneFacts:
                       classical=classical, rayleigh=rayleigh,
                       krylov=_krylov_serves(scene) if unforced and rational else False,
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
-                      pole_bound=poles, sampled=sampled, quotes=quotes)
+                      pole_bound=poles, sampled=sampled, quotes=quotes,
+                      periodic=scene.forcing is not None and scene.forcing.has(Periodic))
 
 
 def _krylov_serves(scene: Scene) -> bool | None:

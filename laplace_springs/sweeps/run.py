@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -10,7 +11,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..model.errors import SceneError
+from ..limits import limits
+from ..model.errors import LimitError, SceneError
 from ..model.names import coordinate_index
 from ..model.numbers import shown
 from ..model.scene import Scene
@@ -78,6 +80,12 @@ def grid(*args: Mapping[Any, Any], **axes: Any) -> ParameterGrid:
                 raise SceneError(f"grid: parameter {name!r} has no values")
             items[name] = array
     shape = tuple(a.size for a in items.values())
+    count = math.prod(shape)
+    if count > limits().sweep_max_sets:
+        sizes = " x ".join(f"{size:,}" for size in shape)
+        raise LimitError(f"grid: {sizes} = {count:,} parameter sets, more than Limits.sweep_max_sets = "
+                         f"{limits().sweep_max_sets:,}; sweep the grid in parts (a slice of the first "
+                         "parameter's values at a time)")
     mesh = np.meshgrid(*items.values(), indexing="ij") if items else []
     result = ParameterGrid({name: m.ravel() for name, m in zip(items, mesh)})
     result.shape = shape
@@ -169,6 +177,19 @@ def _progress(progress: Any) -> Callable[[int, int], None] | None:
         return progress  # type: ignore[no-any-return,unused-ignore]
     raise SceneError(f"sweep: progress must be True, False, None or a callable(done, total), "
                      f"got {shown(progress)}")
+
+
+def _check_memory(P: int, shape: tuple[int, int], keep: tuple[bool, bool]) -> None:
+    """Refuse, before any work, values (and bounds) to be kept in memory beyond
+    Limits.max_evaluation_values each: they stream to ``out=`` (``error_out=``) instead."""
+    most, count = limits().max_evaluation_values, P * shape[0] * shape[1]
+    for kept, store in zip(keep, ("out", "error_out")):
+        if kept and count > most:
+            raise LimitError(
+                f"sweep: {P:,} sets x {shape[0]:,} outputs x {shape[1]:,} times = {count:,} values, "
+                f"more than Limits.max_evaluation_values = {most:,} in memory; give {store}= (a .npy "
+                "path or a numpy.memmap: each chunk is written there), ask for quantities=, or sweep "
+                "fewer sets or times per call")
 
 
 def plan_sweep(scene: Scene) -> SweepPlan:
@@ -345,6 +366,7 @@ def sweep(scene: Scene, values: Mapping[Any, Any], times: Any, *, outputs: Any =
     validate_sets(scene, plan.entries, sets)
     grid_times = as_times(times).hi
     P, shape = len(sets), (len(chosen), grid_times.size)
+    _check_memory(P, shape, keep=(spec is None and out is None, return_error and spec is None and error_out is None))
     stores = (None if out is None else open_store(out, (P, *shape), "out"),
               None if error_out is None else open_store(error_out, (P, *shape), "error_out"))
     keep = (spec is None, return_error and spec is None)
