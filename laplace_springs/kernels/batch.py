@@ -8,17 +8,24 @@ of a column depends on how many columns share the call (measured: 37 of 50 colum
 3 x 5 by 5 x 64 product differ in the last place from the same column alone).
 
 These products cut the time axis into chunks of exactly :data:`WIDTH` columns (the last
-one zero-padded), so that every gemm has the same shape whatever the number of times; in
-a fixed-shape gemm a column's rounding does not depend on its position or on the other
-columns (measured on this machine's OpenBLAS for shapes from 3 x 5 to 1000 x 2000, real
-and complex: 0 of 460 columns differ; ``tests/numeric/test_reproducible.py`` checks every
-engine alone against random batches). Cost: the same flops as one product for many
-times; a lone time pays a 64-column product instead of a matrix-vector one. A short
-inner dimension (at most :data:`SHORT` terms) is summed term by term in index order with
-elementwise outer products instead: the same IEEE operations for every entry whatever the
-others (10⁵ times by a 6 x 6 matrix in 7 ms, against 18 ms in chunks and 108 ms for one
-matmul; ``numpy.einsum`` is not used: its loops change with the shape, and so do its
-roundings).
+one zero-padded) and make every gemm the same: A C-ordered in the result's dtype times a
+C-ordered (k, WIDTH) chunk. One product over all the columns is not enough: OpenBLAS
+chooses between its small-matrix kernels and its blocked ones by the size m·n·k (SkylakeX:
+at most 100³ takes the small ones), and the blocked kernels add the partial sums of each
+block of k, so a 10 x 1000 matrix times 640 columns rounded every column differently from
+the same column in a 64-column product. With every gemm of one shape, a column's rounding
+does not depend on its position, on the other columns or on their number (measured on
+this machine's OpenBLAS 0.3.31 for shapes from 1 x 16 to 1000 x 1000, real and complex,
+1 to 20,000 columns, one thread and two: 0 of 1,500 columns differ from the same column
+alone; ``tests/numeric/test_reproducible.py`` checks every engine alone against random
+batches). Cost: the flops of one product for many times and one Python step per 64
+times; a lone time pays a 64-column product instead of a matrix-vector one.
+
+A product with at most :data:`SHORT` rows and terms is summed term by term in index order
+with elementwise outer products instead, in real arithmetic (NumPy's complex multiply
+fuses a·c − b·d in its vector loops but not for a lone element): the same IEEE
+operations for every entry whatever the others. ``numpy.einsum`` is not used: its loops
+change with the shape, and so do its roundings.
 
 >>> import numpy as np
 >>> rng = np.random.default_rng(0)
@@ -33,12 +40,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["WIDTH", "SHORT", "columns_product", "rows_product"]
+__all__ = ["WIDTH", "BLOCKED", "columns_product", "rows_product"]
 
-#: Columns (or rows) per gemm: every product of this module has this many.
-WIDTH = 64
-#: Inner dimensions up to this are summed elementwise, term by term in index order.
-SHORT = 16
+#: Columns per gemm: every gemm of this module has a multiple of this many, a small one
+#: exactly this many (a multiple of OpenBLAS's column unrolling, 2 to 8 on x86-64).
+WIDTH = 16
+#: A product with more multiply-adds than this per gemm of :data:`WIDTH` columns is large:
+#: OpenBLAS takes its blocked kernels for it whatever the number of columns (its
+#: small-matrix kernels stop at 100³ on SkylakeX; twice that for a margin).
+BLOCKED = 2_000_000
 
 
 def columns_product(A: np.ndarray, B: np.ndarray) -> np.ndarray:
@@ -59,25 +69,23 @@ def columns_product(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     A, B = np.asarray(A), np.asarray(B)
     dtype = np.result_type(A, B)
     count = B.shape[1]
-    out = np.empty((A.shape[0], count), dtype=dtype)
-    if count == 0:
-        return out
-    if A.shape[1] == 0:
-        out[...] = 0
-        return out
-    if A.shape[1] <= SHORT:  # term by term in index order: one IEEE sequence per entry
-        B = np.ascontiguousarray(B)
-        np.multiply.outer(A[:, 0], B[0], out=out)
-        for j in range(1, A.shape[1]):
-            out += np.multiply.outer(A[:, j], B[j])
-        return out
-    chunk = np.zeros((B.shape[0], WIDTH), dtype=B.dtype)
-    for start in range(0, count, WIDTH):
-        stop = min(start + WIDTH, count)
-        chunk[:, : stop - start] = B[:, start:stop]
-        chunk[:, stop - start:] = 0
-        out[:, start:stop] = (A @ chunk)[:, : stop - start]
-    return out
+    if count == 0 or A.shape[1] == 0:
+        return np.zeros((A.shape[0], count), dtype=dtype)
+    A = A.astype(dtype, copy=False)  # its layout is A's own, the same for every call
+    p, k = A.shape
+    padded = -(-count // WIDTH) * WIDTH
+    if padded == count and B.dtype == dtype and B.strides[1] == B.itemsize:
+        wide = B
+    else:
+        wide = np.zeros((k, padded), dtype=dtype)
+        wide[:, :count] = B
+    if padded == WIDTH or A.size * WIDTH > BLOCKED:
+        # one gemm; if large, blocked kernels with every column in a full tile
+        return np.matmul(A, wide)[:, :count]
+    # small: one gemm of WIDTH columns per chunk (small-matrix kernels; NumPy loops in C)
+    stacked = wide.reshape(k, padded // WIDTH, WIDTH).transpose(1, 0, 2)
+    out = np.matmul(A, stacked).transpose(1, 0, 2).reshape(p, padded)
+    return out[:, :count]
 
 
 def rows_product(X: np.ndarray, A: np.ndarray) -> np.ndarray:

@@ -43,6 +43,7 @@ import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat
 
+from ..kernels.batch import columns_product
 from ..limits import limits
 from ..model.errors import FloatRangeError, SceneError
 from ..model.scene import Scene
@@ -300,8 +301,8 @@ class ModalForm:
         with np.errstate(over="ignore", invalid="ignore"):
             growth = np.exp(np.outer(self.alphas, t)) * t[None, :] ** self.powers[:, None]
             phase = np.outer(self.betas, t)
-            return (self.shapes @ (self.cos[:, None] * growth * np.cos(phase))
-                    + self.sin_shapes @ (self.sin[:, None] * growth * np.sin(phase)))
+            return (columns_product(self.shapes, self.cos[:, None] * growth * np.cos(phase))
+                    + columns_product(self.sin_shapes, self.sin[:, None] * growth * np.sin(phase)))
 
     def _row(self, i: int, relative: float = 1e-13) -> sp.Expr:
         a = self.shapes[i] * self.cos
@@ -559,7 +560,7 @@ class ClassicalMotion:
     def values(self, times: np.ndarray, order: int = 0) -> np.ndarray:
         """d^order x/dt^order at the times, float64, shape (n, len(times))."""
         q, _ = self._modal(np.asarray(times, dtype=float), order)
-        return self.decomposition.phi @ q
+        return columns_product(self.decomposition.phi, q)   # a time's column alone
 
     def bound(self, times: np.ndarray, order: int = 0) -> np.ndarray:
         """A bound on the error of :meth:`values`, the same for every coordinate."""
@@ -567,7 +568,8 @@ class ClassicalMotion:
         t = np.asarray(times, dtype=float)
         _, scalar = self._modal(t, order)
         with np.errstate(over="ignore", invalid="ignore"):
-            total = d.colmax @ scalar + self._energy_bound(np.abs(t), order, d.constants)
+            total = columns_product(d.colmax[None, :], scalar)[0] \
+                + self._energy_bound(np.abs(t), order, d.constants)
         return np.broadcast_to(np.where(np.isfinite(total), total, np.inf), (self.n, len(t))).copy()
 
     @cached_property

@@ -42,13 +42,16 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
+from typing import Any, cast
 
 import numpy as np
 import sympy as sp
 
+from ..kernels.batch import columns_product
 from ..kernels.first_order import FLOAT, first_order, massless_nodes
 from ..limits import limits
 from ..model.errors import FloatRangeError
@@ -124,7 +127,8 @@ def _massless_system(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarray
                          f"block on them); nodes {z} are not")
     if m and np.linalg.cond(Mmm) > limits().max_mass_condition:
         raise FloatRangeError("the modal route needs an invertible mass matrix on the massive nodes")
-    Z, y0, _ = first_order(M, C, K, x0, v0, FLOAT, massless=z)
+    Z, y0, _ = first_order(M, C, K, cast(Sequence[Any], x0), cast(Sequence[Any], v0), FLOAT,
+                           massless=z)
     return Z, y0
 
 
@@ -347,7 +351,22 @@ class Block:
 
     def exp_times(self, times: np.ndarray, vector: np.ndarray) -> np.ndarray:
         """e^{T t}·vector for each t, shape (m, len(times))."""
-        return np.einsum("tij,j->it", self.exp_matrices(times), vector)
+        return _stacked_apply(self.exp_matrices(times), vector)
+
+
+def _stacked_apply(E: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    """E[t] @ vector for each t, shape (m, len(E)): one matrix-vector product of the same
+    shape per t (a stacked matmul), so a time's rounding does not depend on the others."""
+    return np.matmul(E, vector).T
+
+
+def _sum_in_order(rows: np.ndarray) -> np.ndarray:
+    """Σᵢ rows[i] for each column, added in index order (NumPy's reductions sum pairwise or
+    row by row depending on the shape, so a time alone could round differently)."""
+    total = np.zeros(rows.shape[1], dtype=rows.dtype)
+    for row in rows:
+        total = total + row
+    return total
 
 
 def _exp_batch(N: np.ndarray, times: np.ndarray, squarings: int) -> np.ndarray:
@@ -436,7 +455,7 @@ class Modes:
         the oscillations."""
         rates, weights = self.half()
         with np.errstate(over="ignore", invalid="ignore"):
-            total = (weights * rates**order) @ np.exp(np.outer(rates, times))
+            total = columns_product(weights * rates**order, np.exp(np.outer(rates, times)))
             for block, factor in self.half_blocks():
                 total = total + factor * _block_value(block, np.asarray(times, dtype=float), order)
         return total
@@ -472,8 +491,8 @@ class Modes:
         growth = np.exp(np.outer(self.rates.real, t))
         power = size**order
         mixing = 2 * _EPS * (self.reach + weight)  # forming F = back·X and c = X⁻¹y0 (sampled too)
-        total = ((mixing + weight * _EPS * (4 + order + len(size))) * power) @ growth
-        total += (weight * power * 4 * _EPS * size) @ (growth * t)
+        total = columns_product((mixing + weight * _EPS * (4 + order + len(size))) * power, growth)
+        total += columns_product(weight * power * 4 * _EPS * size, growth * t)
         return total
 
     def _first_order_bound(self, t: np.ndarray, order: int) -> np.ndarray:
@@ -483,8 +502,8 @@ class Modes:
         drift = np.expm1(np.outer(delta, t))
         moved = (size + delta) ** order
         amplitude = limits().modal_safety * self.unit * self.kappa * (weight + self.reach)
-        total = (amplitude * moved) @ (growth * (1 + drift))
-        total += limits().modal_safety * ((weight + self.reach) * moved) @ (growth * drift)
+        total = columns_product(amplitude * moved, growth * (1 + drift))
+        total += limits().modal_safety * columns_product((weight + self.reach) * moved, growth * drift)
         return total
 
     def _block_bound(self, block: Block, t: np.ndarray, order: int,
@@ -493,19 +512,21 @@ class Modes:
         unit = max(self.unit, block.basis_error)
         exps = block.exp_matrices(t)
         Tp = np.linalg.matrix_power(block.T, order)
-        inner = np.einsum("ij,tjk,k->it", Tp, exps, block.c)
+        inner = columns_product(Tp, _stacked_apply(exps, block.c))
         moved_block = block.perturbed(unit * self.norm, rng)
-        moved = np.linalg.matrix_power(moved_block.T, order) @ moved_block.exp_times(t, block.c)
-        spread = np.linalg.norm(inner, axis=0) + np.linalg.norm(np.einsum("ij,tjk->tik", Tp, exps),
-                                                                axis=(1, 2))
+        moved = columns_product(np.linalg.matrix_power(moved_block.T, order),
+                                moved_block.exp_times(t, block.c))
+        TpE = np.matmul(Tp, exps)  # one product of the same shape per time
+        spread = (np.sqrt(_sum_in_order(np.abs(inner) ** 2))
+                  + np.sqrt(_sum_in_order(np.abs(TpE.reshape(len(t), -1).T) ** 2)))
         out = limits().modal_safety * unit * block.kappa * np.linalg.norm(block.F, 2) * spread
-        return out[None, :] + limits().modal_safety * np.abs(block.F @ (moved - inner))
+        return out[None, :] + limits().modal_safety * np.abs(columns_product(block.F, moved - inner))
 
 
 def _block_value(block: Block, t: np.ndarray, order: int) -> np.ndarray:
     """d^order/dt^order of F e^{Tt} c at the times (complex, n x len(t))."""
     vector = np.linalg.matrix_power(block.T, order) @ block.c
-    return block.F @ block.exp_times(t, vector)
+    return columns_product(block.F, block.exp_times(t, vector))
 
 
 def _basis(Z: np.ndarray, mu: np.ndarray, V: np.ndarray, groups: list[list[int]]):
@@ -737,7 +758,7 @@ class ModalMotion:
         if self._affine is None:
             return inner
         lift, offset, slope = self._affine
-        out = lift @ inner
+        out = columns_product(lift, inner)
         if order == 0:
             out += offset[:, None] + slope[:, None] * times[None, :]
         elif order == 1:
@@ -750,7 +771,7 @@ class ModalMotion:
         if self._affine is None:
             return inner
         lift, offset, slope = self._affine
-        out = np.abs(lift) @ inner * (1 + 4 * _EPS * lift.shape[1])
+        out = columns_product(np.abs(lift), inner) * (1 + 4 * _EPS * lift.shape[1])
         if order == 0:
             out += 2 * _EPS * (np.abs(offset)[:, None] + np.abs(slope)[:, None] * np.abs(times)[None, :])
         return out

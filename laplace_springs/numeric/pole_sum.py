@@ -50,6 +50,8 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
+from ..kernels.batch import rows_product
+from ..kernels.dd import two_diff, two_prod
 from ..limits import limits
 
 __all__ = ["Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
@@ -57,7 +59,6 @@ __all__ = ["Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
 _EPS = float(np.finfo(float).eps)
 #: Relative error of a phase formed in double-double (μ stored to 2^-106, products 2^-105).
 _PHASE_UNIT = 2.0**-103
-_SPLITTER = 134217729.0  # 2^27 + 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -282,43 +283,17 @@ def _needs_merge(parts: list[Block], joint: Block, t_high: float) -> bool:
 # ----------------------------------------------------------------------------- float kernels
 
 
-def _split(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    c = _SPLITTER * a
-    hi = c - (c - a)
-    return hi, a - hi
-
-
-def two_diff(a: np.ndarray, b_hi: float, b_lo: float) -> tuple[np.ndarray, np.ndarray]:
-    """a - (b_hi + b_lo) as a double-double (hi, lo), a exact floats (Knuth's two-sum)."""
-    s = a - b_hi
-    v = s - a
-    err = (a - (s - v)) - (b_hi + v)
-    lo = err - b_lo
-    hi = s + lo
-    return hi, lo - (hi - s)
-
-
-def _two_prod(a: float, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """p + e = a·b exactly (Dekker), p = fl(a·b)."""
-    p = a * b
-    ah, al = _split(np.asarray(a, dtype=float))
-    bh, bl = _split(b)
-    with np.errstate(invalid="ignore", over="ignore"):
-        e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, np.where(np.isfinite(e), e, 0.0)
-
-
 def _centre_factor(mu: tuple[float, float, float, float], t: np.ndarray, t_lo: np.ndarray):
     """|e^{μt}|, cos and sin of arg e^{μt}, with μt formed in double-double (t = t + t_lo)."""
     re_hi, re_lo, im_hi, im_lo = mu
-    p, e = _two_prod(re_hi, t)
+    p, e = two_prod(re_hi, t)
     e = e + (re_lo * t + re_hi * t_lo)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         # past |p| ~ 700 the result is 0 or inf whatever e is (and e may be ~1e3)
         size = np.where(np.abs(p) < 700, np.exp(p) * np.exp(e), np.exp(p + e))
     if im_hi == 0.0 and im_lo == 0.0:
         return size, np.ones_like(t), np.zeros_like(t)
-    p, e = _two_prod(im_hi, t)
+    p, e = two_prod(im_hi, t)
     e = e + (im_lo * t + im_hi * t_lo)
     ce, se = np.cos(e), np.sin(e)
     cp, sp_ = np.cos(p), np.sin(p)
@@ -376,7 +351,7 @@ def _block_values(block: Block, t: np.ndarray,
         tpow = t[:, None] ** powers[None, :]
         rows, squarings = first_row_exp(x) if size > 1 else (np.ones((t.size, 1), complex),
                                                              np.zeros(t.size, int))
-        series = (tpow * rows) @ block.d  # (T, n)
+        series = rows_product(tpow * rows, block.d)  # (T, n), each time alone
         scale, cos, sin = _centre_factor(block.mu, t, t_lo)
         values = block.factor * scale[:, None] * (cos[:, None] * series.real
                                                   - sin[:, None] * series.imag)
@@ -386,9 +361,9 @@ def _block_values(block: Block, t: np.ndarray,
         reach = (math.hypot(block.mu[0], block.mu[2]) + float(np.max(np.abs(block.delta), initial=0.0)))
         phase = (_PHASE_UNIT + block.precision) * reach * np.abs(t + t_lo)
         kappa = _EPS * 2.0 * (size + squarings + 3) + block.precision + phase
-        bound = (kappa * block.factor * scale)[:, None] * (bound_rows @ np.abs(block.d))
+        bound = (kappa * block.factor * scale)[:, None] * rows_product(bound_rows, np.abs(block.d))
         if block.data_error is not None:
-            bound += (block.factor * scale)[:, None] * (bound_rows @ block.data_error)
+            bound += (block.factor * scale)[:, None] * rows_product(bound_rows, block.data_error)
     return values.T, bound.T
 
 
