@@ -7,25 +7,26 @@ kernels for a remainder of columns, fused multiply-adds in some of them), so the
 of a column depends on how many columns share the call (measured: 37 of 50 columns of a
 3 x 5 by 5 x 64 product differ in the last place from the same column alone).
 
-These products cut the time axis into chunks of exactly :data:`WIDTH` columns (the last
-one zero-padded) and make every gemm the same: A C-ordered in the result's dtype times a
-C-ordered (k, WIDTH) chunk. One product over all the columns is not enough: OpenBLAS
-chooses between its small-matrix kernels and its blocked ones by the size m·n·k (SkylakeX:
-at most 100³ takes the small ones), and the blocked kernels add the partial sums of each
-block of k, so a 10 x 1000 matrix times 640 columns rounded every column differently from
-the same column in a 64-column product. With every gemm of one shape, a column's rounding
-does not depend on its position, on the other columns or on their number (measured on
-this machine's OpenBLAS 0.3.31 for shapes from 1 x 16 to 1000 x 1000, real and complex,
-1 to 20,000 columns, one thread and two: 0 of 1,500 columns differ from the same column
-alone; ``tests/numeric/test_reproducible.py`` checks every engine alone against random
-batches). Cost: the flops of one product for many times and one Python step per 64
-times; a lone time pays a 64-column product instead of a matrix-vector one.
+These products pad the time axis with zero columns to a multiple of :data:`WIDTH` and
+make every gemm of one product the same: A (its own layout, in the result's dtype) times
+(k, WIDTH) columns, in one stacked matmul (NumPy calls the gemm per chunk in C). One
+product over all the columns is not enough: OpenBLAS chooses between its small-matrix
+kernels and its blocked ones by the size m·n·k (SkylakeX: at most 100³ takes the small
+ones), and the blocked kernels add the partial sums of each block of k, so a 10 x 1000
+matrix times 640 columns rounded every column differently from the same column in a
+64-column product. A product large enough that a WIDTH-column gemm already takes the
+blocked kernels (more than :data:`BLOCKED` multiply-adds) is one gemm over all the padded
+columns: every column lies in a full tile of the same kernel. Measured on this machine's
+OpenBLAS 0.3.31 (SkylakeX kernels) for shapes from 1 x 12 to 16,000 x 8, real, complex
+and mixed, C and Fortran order, 1 to 20,000 columns, one thread and two: 0 of about
+2,300 columns differ from the same column alone or among a few others
+(``tests/numeric/test_reproducible.py`` checks the products and every engine). Cost: about
+the flops of one product for many times; a lone time pays a WIDTH-column product
+instead of a matrix-vector one (1000 x 1000: 0.9 ms against 0.27 ms).
 
-A product with at most :data:`SHORT` rows and terms is summed term by term in index order
-with elementwise outer products instead, in real arithmetic (NumPy's complex multiply
-fuses a·c − b·d in its vector loops but not for a lone element): the same IEEE
-operations for every entry whatever the others. ``numpy.einsum`` is not used: its loops
-change with the shape, and so do its roundings.
+Complex products are never formed elementwise (NumPy's complex multiply fuses a·c − b·d
+in its vector loops but not for a one-element outer product), and ``numpy.einsum`` is
+not used: its loops change with the shape, and so do its roundings.
 
 >>> import numpy as np
 >>> rng = np.random.default_rng(0)
