@@ -48,6 +48,7 @@ import sympy as sp
 from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
+from .exact.screening import has_exact_form
 from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
@@ -377,7 +378,7 @@ def _check_shown_options(args: argparse.Namespace) -> None:
 
 def _is_large(scene: Scene) -> bool:
     """Beyond the exact form: the summary by default, the formula from float64 modes."""
-    return scene.n > limits().exact_form_max_coordinates and not scene.free_symbols
+    return not has_exact_form(scene)
 
 
 def _large_formula_lines(scene: Scene, chosen: list[int] | None, pretty: bool) -> list[str]:

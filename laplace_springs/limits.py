@@ -71,6 +71,11 @@ class Limits:
     #: Largest scene whose ``x`` is built as an exact closed form on other routes; beyond it
     #: ``x`` is the modal form with Float coefficients.
     exact_form_max_coordinates: int = 8
+    #: Largest free scene with rational entries whose ``x`` is built as an exact closed form
+    #: on other routes: its Δ's large factors are written in named numbers
+    #: (exact/named_roots.py), damped chains of unequal masses in about 1 s at 12 and 16
+    #: coordinates (solve, x and five values), 4.3 s at 40.
+    exact_named_form_max_coordinates: int = 16
     #: Largest scene whose ``x`` on a numeric route is a SymPy column (Float coefficients);
     #: beyond it a ModalForm: 12 rows of 24 terms are still readable, 200 rows of 400 not.
     closed_form_max_coordinates: int = 12

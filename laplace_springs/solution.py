@@ -33,6 +33,7 @@ from .exact.assembly import Piece
 from .exact.jumps import InitialJump
 from .exact.real_terms import Term
 from .exact.resolvent import Resolvent
+from .exact.screening import has_exact_form
 from .limits import limits
 from .model.errors import LimitError, SceneError
 from .model.scene import Scene
@@ -371,7 +372,7 @@ class Solution(ABC):
         exact definitions under "where"); beyond Limits.exact_form_max_coordinates coordinates, the
         modal summary instead (see :mod:`laplace_springs.output.text`)."""
         lines = [self.scene.title] if self.scene.title else []
-        if self.scene.n > limits().exact_form_max_coordinates and not self.scene.free_symbols:
+        if not has_exact_form(self.scene):
             lines.append(f"{self.method} route: {self.reason}")
             lines += summary_lines(self.scene)
         else:

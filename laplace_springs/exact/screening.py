@@ -45,7 +45,7 @@ from ..model.symbols import lam
 from .named_roots import free_rational
 from .rational import RationalPencil, fmpq_of, initial_vector, rational_pencil, solve_at_integers
 
-__all__ = ["screen_scene", "exact_refusal"]
+__all__ = ["screen_scene", "exact_refusal", "has_exact_form"]
 
 
 _Vector = list[flint.fmpq_poly]
@@ -188,3 +188,16 @@ def exact_refusal(scene: Scene) -> str | None:
         f"generic values of {names}): too large for exact terms whether its coefficients "
         f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
         "(method='modal' or 'certified'), which evaluate any degree")
+
+
+def has_exact_form(scene: Scene) -> bool:
+    """Whether ``x`` of a solution of ``scene`` is its exact closed form on every route: up
+    to Limits.exact_form_max_coordinates coordinates, or Limits.exact_named_form_max_coordinates
+    for a free scene with rational entries (named numbers), or any size with symbols.
+
+    >>> has_exact_form(Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0]))
+    True
+    """
+    if scene.n <= limits().exact_form_max_coordinates or scene.free_symbols:
+        return True
+    return scene.n <= limits().exact_named_form_max_coordinates and free_rational(scene)

@@ -26,6 +26,7 @@ import sympy as sp
 from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
+from ..exact.screening import has_exact_form
 from ..kernels.modulo import reduce_modulo
 from ..limits import limits
 from ..model.numbers import generic_values
@@ -434,7 +435,7 @@ def _size(exprs: Sequence[Any], values: dict, dps: int) -> float:
 def exact_solution_of(scene: Scene, *, method: str, target: float) -> ExactSolution | None:
     """The exact solution of a scene solved on another route, where it is affordable
     (up to :attr:`~laplace_springs.limits.Limits.exact_form_max_coordinates` coordinates)."""
-    if scene.n > limits().exact_form_max_coordinates:
+    if not has_exact_form(scene):
         return None
     return ExactSolution(exact_motion(scene), reason=f"exact form of a {method} solution",
                          target=target)
