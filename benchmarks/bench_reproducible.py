@@ -106,8 +106,8 @@ def main() -> None:
         for count in (1, 50, 2000):
             B = rng.standard_normal((k, count)) + (1j * rng.standard_normal((k, count))
                                                    if complex_ else 0)
-            ours = best(lambda: batch.columns_product(A, B), args.repeats)
-            peer = best(lambda: A @ B, args.repeats)
+            ours = best(lambda A=A, B=B: batch.columns_product(A, B), args.repeats)
+            peer = best(lambda A=A, B=B: A @ B, args.repeats)
             label = f"{p}x{k}{' complex' if complex_ else ''}"
             print(f"{label:>16} {count:>6} {ours * 1e6:>8.1f}us {peer * 1e6:>8.1f}us "
                   f"{ours / peer:>6.2f}")
@@ -119,9 +119,11 @@ def main() -> None:
             if count == 2000 and "1,000" in name:
                 continue  # seconds per call (the refined engine): the products do not show
             times = np.linspace(0.01, 50, count) if count > 1 else np.array([3.3])
-            ours = best(lambda: sol.evaluate(times, return_error=True), args.repeats)
+            ours = best(lambda sol=sol, times=times: sol.evaluate(times, return_error=True),
+                        args.repeats)
             with plain_products():
-                peer = best(lambda: sol.evaluate(times, return_error=True), args.repeats)
+                peer = best(lambda sol=sol, times=times: sol.evaluate(times, return_error=True),
+                            args.repeats)
             print(f"{name:>24} {count:>6} {ours * 1e3:>8.2f}ms {peer * 1e3:>8.2f}ms "
                   f"{ours / peer:>6.2f}")
 

@@ -39,11 +39,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 from math import factorial
+from typing import Any
 
 import sympy as sp
 
 from ..limits import limits
-from ..model.errors import InversionError, SceneError
+from ..model.errors import InternalError, InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
 from .domains import field_polys
@@ -441,14 +442,22 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
             for (quotient, _), groups in zip(quotients, groups_per)]
 
 
+def _over_q(poly: sp.Poly) -> Any:
+    """A polynomial over ℚ as a flint fmpq_poly (the caller checked its domain)."""
+    converted = from_poly(poly)
+    if converted is None:
+        raise InternalError(f"{poly} was taken for a polynomial over QQ")
+    return converted
+
+
 def _rational_decompose(numerators: list[sp.Poly], denominator: sp.Poly,
                         factors: list[tuple[sp.Poly, int]], cancelled: set[int]) -> list[PartialFractions]:
     """:func:`decompose` over ℚ by :func:`~laplace_springs.exact.rational.rational_partial_fractions`
     (residues reduced modulo each factor in python-flint), the factors in SymPy's order."""
     s = denominator.gen
-    flint_numerators = [from_poly(N) for N in numerators]
-    flint_factors = [(from_poly(q), m) for q, m in factors]
-    quotients, groups = rational_partial_fractions(flint_numerators, from_poly(denominator), flint_factors)
+    flint_numerators = [_over_q(N) for N in numerators]
+    flint_factors = [(_over_q(q), m) for q, m in factors]
+    quotients, groups = rational_partial_fractions(flint_numerators, _over_q(denominator), flint_factors)
     out = []
     for i, quotient in enumerate(quotients):
         found = []

@@ -209,9 +209,8 @@ def from_poly(poly: sp.Poly) -> flint.fmpq_poly | None:
         return None
     to_sympy = poly.domain.to_sympy
     coeffs = [fmpq_of(to_sympy(c)) for c in reversed(poly.all_coeffs())]
-    if any(c is None for c in coeffs):
-        return None
-    return flint.fmpq_poly(coeffs)
+    known = [c for c in coeffs if c is not None]
+    return flint.fmpq_poly(known) if len(known) == len(coeffs) else None
 
 
 # ---------------------------------------------------------------------------

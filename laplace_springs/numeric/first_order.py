@@ -233,8 +233,8 @@ def first_order_system(scene: Scene) -> tuple[sp.Matrix, sp.Matrix, list[int]]:
     """
     z = massless_nodes(scene)
     try:
-        Z, y0, m = first_order(*(sp.Matrix(a) for a in (scene.M, scene.C, scene.K)),
-                               list(scene.x0), list(scene.v0), SYMPY, massless=z)
+        M, C, K = (sp.Matrix(a) for a in (scene.M, scene.C, scene.K))
+        Z, y0, m = first_order(M, C, K, list(scene.x0), list(scene.v0), SYMPY, massless=z)
     except ValueError:  # SymPy: "Matrix det == 0; not invertible."
         raise SceneError("the first-order form needs an invertible mass block and, for "
                          f"massless nodes {z}, an invertible dashpot block on them") from None
