@@ -323,21 +323,35 @@ def _refined_cost(facts: SceneFacts, request: Request) -> Cost:
 
 
 def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
-    n = facts.n  # damped chains: 8 coordinates 2.9 s, 12 coordinates 13 s
-    build = 0.02 if n <= 2 else 2.9 * (n / 8) ** 4
+    n = facts.n
+    if n <= 2:
+        build = 0.02
+    elif facts.rational and not facts.forced:
+        # free rational scenes, named roots (damped chains of unequal masses, solve + x +
+        # five values): 8 coordinates 0.2-0.4 s, 12 0.8-1.1 s, 16 1.0-1.3 s, 40 4.3 s
+        build = 0.1 * n
+    else:  # the written-out form: damped chains 8 coordinates 2.9 s, 12 13 s
+        build = 2.9 * (n / 8) ** 4
     # per time and coordinate: 1.6-2.2 us unforced or with cos(t), 8-10 us with a square
     # wave (one or two masses, 10^5 times)
     return Cost(build, _run(request, 1e-5 if facts.periodic else 2e-6, n))
 
 
 def _mp_cost(facts: SceneFacts, request: Request) -> Cost:
+    """The exact terms in mpmath: about 2 ms a value up to a few hundred digits, growing
+    like digits^1.66 beyond (one mass: 1.6e-4 s a value at 1,000 digits, 6e-3 s at 10,000)."""
     exact = _exact_cost(facts, request)
-    return Cost(exact.build, _run(request, 2e-3, facts.n))
+    digits = request.dps or limits().escalation_digits
+    return Cost(exact.build, _run(request, max(2e-3, 6e-3 * (digits / 10_000) ** 1.66), facts.n))
 
 
 def _ball_cost(facts: SceneFacts, request: Request) -> Cost:
+    """Certified poles in ball arithmetic: one mass 9e-5 s a value at 30 digits, 2e-4 at
+    1,000, 2.1e-3 at 5,000 (about digits^1.5 beyond 1,000)."""
     certified = _certified_cost(facts, request)
-    return Cost(certified.build, _run(request, 2e-4 * facts.n, facts.n))
+    digits = request.dps or limits().escalation_digits
+    growth = max(1.0, (digits / 1000) ** 1.5)
+    return Cost(certified.build, _run(request, 2e-4 * facts.n * growth, facts.n))
 
 
 #: The planner's table. Adding an engine is one module in numeric/, one builder in
