@@ -126,7 +126,7 @@ class SceneFacts:
 
 def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
     """The facts of a scene (cached with it); ``method`` names an engine whose own checks
-    are then made even where auto leaves them out (krylov's on a tiny scene).
+    are then made even where auto leaves them out (krylov's and refined's on a tiny scene).
 
     Examples
     --------
@@ -143,6 +143,8 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
     facts: SceneFacts = table["facts"]
     if method == "krylov" and facts.krylov is None:
         facts = table["facts"] = replace(facts, krylov=krylov_refusal(scene) is None)
+    if method == "refined" and facts.quote("refined") is None and facts.classical:
+        facts = table["facts"] = replace(facts, quotes=facts.quotes + (_refined_quote(scene),))
     return facts
 
 
@@ -164,8 +166,12 @@ def _facts(scene: Scene) -> SceneFacts:
         read = exact[name]
         nnz += len(read if read is not None else scene_entries(scene, name))
     stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
-    quotes = ((_refined_quote(scene),) if classical and not symbolic else ()) + (
-        (_tiny_quote(scene),) if unforced and scene.n <= limits().tiny_max_coordinates else ())
+    # the refined engine (long horizons) is asked beyond the tiny engine's sizes only: its
+    # quote costs 90 us, more than the rest of a tiny scene's facts, and the tiny,
+    # certified and exact engines serve every horizon below
+    tiny = unforced and scene.n <= limits().tiny_max_coordinates
+    quotes = ((_refined_quote(scene),) if classical and not symbolic and not tiny else ()) + (
+        (_tiny_quote(scene),) if tiny else ())
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
                       rational=not symbolic and rational, first_order=first_order,
                       classical=classical, rayleigh=rayleigh,
