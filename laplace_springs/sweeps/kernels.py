@@ -197,9 +197,44 @@ def _cluster_terms(z: np.ndarray, others: np.ndarray, lead: np.ndarray, num: np.
         scale_k = np.where(np.isfinite(dist), 1 / dist, 0.0)[:, None] ** np.arange(m)[None, :]
         numer = UNIT * (num_bound / Qmu[:, None])[:, :, None] \
             * np.einsum("bk,btk->bt", scale_k, np.abs(H))[:, None, :]
+        # the rounding of N(T)'s first row (Horner on T): its k-th entry, a divided
+        # difference of N, is off by about γ·c_k with c_k the k-th Taylor coefficient of
+        # |N| at the cluster's radius, carried through Q(T)⁻¹ (first row ≲ s^j/|Q(μ)|); an
+        # absolute term that does not vanish where N(T) cancels (x' of a near-critical
+        # pair at t = 0: every root is in the cluster, so no other root's distance counts)
+        radius = centre + np.max(np.abs(z - mu[:, None]), axis=1)
+        spread = _divided_rounding(num_abs, radius, scale_k[:, 1] if m > 1 else None, (B, n, m))
+        numer = numer + 4 * UNIT / Qmu[:, None, None] \
+            * np.einsum("bik,btk->bit", spread, np.abs(H))
     error = UNIT * (2 * N + 4) * size * (1 + centre[:, None, None] * times[None, None, :]) \
         + size * (shift[:, None] * reach ** m)[:, None, :] + numer
     return value, np.where(np.isfinite(error), error, np.inf)
+
+
+def _divided_rounding(num_abs: np.ndarray, radius: np.ndarray, s: np.ndarray | None,
+                      shape: tuple[int, int, int]) -> np.ndarray:
+    """Σ_{j≤k} c_j·s^{k−j} (shape (B, n, m)): c_j the Taylor coefficients of |N| (absolute
+    coefficients ``num_abs``, highest first) at ``radius`` (B,), by repeated synthetic
+    division; s (B,) the reciprocal distance to the other roots (None: one root)."""
+    B, n, m = shape
+    coeffs = np.broadcast_to(num_abs, (B, n, num_abs.shape[-1])).astype(float)
+    r = radius[:, None, None]
+    taylor = np.zeros((B, n, m))   # c_0 is counted by the caller's term (at the centre)
+    for k in range(m):
+        if coeffs.shape[-1] == 0:
+            break
+        partial = np.empty_like(coeffs)
+        partial[..., 0] = coeffs[..., 0]
+        for i in range(1, coeffs.shape[-1]):
+            partial[..., i] = coeffs[..., i] + r[..., 0] * partial[..., i - 1]
+        taylor[..., k] = partial[..., -1]
+        coeffs = partial[..., :-1]
+    taylor[..., 0] = 0.0
+    out = taylor.copy()
+    if s is not None:
+        for k in range(1, m):
+            out[..., k] = taylor[..., k] + s[:, None] * out[..., k - 1]
+    return out
 
 
 def evaluate_block(den: np.ndarray, num: np.ndarray, den_abs: np.ndarray, num_abs: np.ndarray,
