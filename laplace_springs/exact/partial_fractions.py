@@ -208,10 +208,14 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     if all(c.is_Rational for c in coeffs):
         if degree <= limits().max_exact_factor_degree:
             return None
+        longer = f", {degree}: longer" if degree > 40 else ""
         return (f"irreducible factor of degree {degree} > Limits.max_exact_factor_degree = "
-                f"{limits().max_exact_factor_degree}: exact terms cost about the fourth power of the "
-                f"degree (degree 16: 0.4 s, 24: 1.2 s, 40: 10 s, {degree}: far longer); the numeric routes "
-                "evaluate any degree: ls.solve(scene, method='modal') or method='certified'")
+                f"{limits().max_exact_factor_degree}: exact terms in written-out form cost about the "
+                f"fourth power of the degree (degree 16: 0.4 s, 24: 1.2 s, 40: 10 s{longer}); the numeric "
+                "routes evaluate any degree for the free motion and for sampled forces "
+                "(ls.solve(scene, method='modal') or method='certified'; a free scene with rational "
+                "entries is also solved exactly in named roots), but formula and periodic forces "
+                "are taken by the exact route only: a force given as samples (ls.sampled) is served")
     if is_symbolic_biquadratic(q):
         return None
     symbols = sorted(set().union(*(c.free_symbols for c in coeffs)), key=str)
