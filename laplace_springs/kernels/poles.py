@@ -38,8 +38,8 @@ def clusters(values: np.ndarray, gap: float) -> list[np.ndarray]:
 
     Real values are sorted and cut where neighbours differ by more than ``gap`` (single
     linkage on a line): each cluster lists its indices by increasing value, clusters in
-    increasing order of their values. Complex ones go through :func:`cluster_labels`:
-    indices in increasing order, clusters by their smallest index.
+    increasing order of their values. Complex ones are linked by a sweep over the real
+    parts and union-find: indices in increasing order, clusters by their smallest index.
     """
     values = np.asarray(values)
     if values.size < 2:
@@ -48,9 +48,41 @@ def clusters(values: np.ndarray, gap: float) -> list[np.ndarray]:
         order = np.argsort(values, kind="stable")
         runs = np.split(order, np.flatnonzero(np.diff(values[order]) > gap) + 1)
         return [run for run in runs if run.size > 1]
-    labels = cluster_labels(values[None, :], np.array([gap]))[0]
-    groups = [np.flatnonzero(labels == label) for label in np.unique(labels)]
-    return [g for g in groups if g.size > 1]
+    return _complex_clusters(values, gap)
+
+
+def _complex_clusters(values: np.ndarray, gap: float) -> list[np.ndarray]:
+    """Single linkage in the plane: the values hashed into square cells of side ``gap``,
+    each compared with those of its own and the eight neighbouring cells, pairs within
+    ``gap`` joined by union-find (about N operations for the thousands of eigenvalues of a
+    modal scene, whatever their layout: undamped poles all share one real part)."""
+    parent = list(range(values.size))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    if not gap > 0:   # links only between equal values
+        gap = 0.0
+    cells: dict[tuple[int, int], list[int]] = {}
+    keys = (np.floor(values.real / gap), np.floor(values.imag / gap)) if gap else \
+        (values.real, values.imag)
+    for i, key in enumerate(zip(keys[0].tolist(), keys[1].tolist())):
+        cells.setdefault(key, []).append(i)
+    steps = (-1, 0, 1) if gap else (0,)
+    for (x, y), members in cells.items():
+        for dx in steps:
+            for dy in steps:
+                for j in cells.get((x + dx, y + dy), ()):
+                    for i in members:
+                        if i < j and abs(values[j] - values[i]) <= gap:
+                            parent[root(j)] = root(i)
+    groups: dict[int, list[int]] = {}
+    for i in range(values.size):
+        groups.setdefault(root(i), []).append(i)
+    return [np.array(g) for g in groups.values() if len(g) > 1]
 
 
 def cluster_labels(values: np.ndarray, gap: np.ndarray) -> np.ndarray:

@@ -53,6 +53,7 @@ import sympy as sp
 
 from ..kernels.batch import columns_product
 from ..kernels.first_order import FLOAT, first_order, massless_nodes
+from ..kernels.poles import clusters
 from ..limits import limits
 from ..model.errors import FloatRangeError
 from ..model.scene import Scene
@@ -196,10 +197,11 @@ def _ill_conditioned(mu: np.ndarray, kappa: np.ndarray, scale: float) -> np.ndar
         return np.flatnonzero(kappa > limits().kappa_max)
     distance = np.abs(mu[:, None] - mu[None, :])
     np.fill_diagonal(distance, np.inf)
-    nearest = distance.min(axis=1)
-    near = nearest < NEAR * np.abs(mu)
-    return np.flatnonzero((kappa > limits().kappa_max) | ((kappa > KAPPA_NEAR) & near)
-                          | (nearest < limits().close_poles * scale))
+    near = distance.min(axis=1) < NEAR * np.abs(mu)
+    close = np.zeros(len(mu), dtype=bool)   # the package's close-poles rule (kernels/poles.py)
+    for cluster in clusters(mu, limits().close_poles * scale):
+        close[cluster] = True
+    return np.flatnonzero((kappa > limits().kappa_max) | ((kappa > KAPPA_NEAR) & near) | close)
 
 
 def _groups(mu: np.ndarray, kappa: np.ndarray, scale: float) -> list[list[int]]:
