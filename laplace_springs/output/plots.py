@@ -521,7 +521,7 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
     rows = list(range(scene.n) if outputs is None else outputs)
     _check_coordinates(scene, [force, *rows])
     w, peaks = _response_frequencies(scene, omegas)
-    H = frequency_response(scene, w)[:, :, force]
+    H = _response_with_gaps(scene, w)[:, :, force]
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -534,7 +534,7 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
         (line,) = amp_ax.loglog(w, np.abs(H[:, i]), label=f"|{label}| / F")
         phase_ax.semilogx(w, np.degrees(np.unwrap(np.angle(H[:, i]))), color=line.get_color(),
                           label=label)
-    at_peaks = np.abs(frequency_response(scene, peaks)[:, rows, force])
+    at_peaks = np.abs(_response_with_gaps(scene, peaks)[:, rows, force])
     for peak, amplitudes in zip(peaks, at_peaks):  # resonance peaks: the damped natural frequencies
         for axis in (amp_ax, phase_ax):
             axis.axvline(peak, color="0.6", linestyle="--", linewidth=0.8)
@@ -549,6 +549,22 @@ def plot_frequency_response(scene: Scene, omegas: Any = None, *, force: int = 0,
     amp_ax.grid(True, which="both", alpha=0.3)
     phase_ax.grid(True, which="both", alpha=0.3)
     return fig
+
+
+def _response_with_gaps(scene: Scene, w: np.ndarray) -> np.ndarray:
+    """H(iω) at the frequencies, NaN (a gap in the curve, no marker) at an undamped
+    scene's natural frequencies, where the response has no finite value."""
+    try:
+        return frequency_response(scene, w)
+    except SceneError:   # a resonance on the grid: the other frequencies one by one
+        H = np.full((len(w), scene.n, scene.n), np.nan, dtype=complex)
+        for k, omega in enumerate(w):
+            try:
+                H[k] = frequency_response(scene, [omega])[0]
+            except SceneError as error:
+                if "natural frequency" not in str(error):
+                    raise
+        return H
 
 
 def overview_figure(solution: Motion, *, t_end: float | None = None) -> Figure:

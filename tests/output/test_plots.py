@@ -238,3 +238,13 @@ def test_energy_balance_of_a_driven_damped_pair():
     assert np.any(e.work != 0)
     ax = plot_energy(sol, _axes())
     assert "work of the forces ∫fᵀv dt" in [t.get_text() for t in ax.get_legend().texts]
+
+
+def test_frequency_response_plot_of_an_undamped_scene_leaves_gaps_at_resonance():
+    # |H| = 1/|k - m w^2| (textbook); at w = 2 = sqrt(k/m) there is no finite value
+    scene = ls.Scene.from_matrices(M=[[1]], C=[[0]], K=[[4]], x0=[1], v0=[0])
+    fig = ls.plot_frequency_response(scene, [1.0, 2.0, 3.0])
+    line = next(c for c in fig.axes[0].get_lines() if c.get_label().startswith("|"))
+    amplitude = np.asarray(line.get_ydata(), dtype=float)
+    assert np.isnan(amplitude[1])
+    assert np.allclose(amplitude[[0, 2]], [1 / 3, 1 / 5], rtol=1e-15)
