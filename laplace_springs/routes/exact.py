@@ -238,16 +238,17 @@ class ExactSolution(Solution):
         each good to ``digits`` of their own size; where they cancel (a period of 1e-40:
         sums of 1e33 that add up to 0.05) the evaluation is redone with the digits lost."""
         total, bounds, sizes = self._mp_parts(times, order, digits, floor)
-        with mpmath.workdps(30):
-            scale = max([mpmath.mpf(floor), *(abs(v) for row in total for v in row)])
-            largest = max((s for row in sizes for s in row), default=mpmath.mpf(0))
+        start = self._start(times, order)
+        kept = [j for j in range(len(times)) if start is None or j not in set(start[0].tolist())]
+        with mpmath.workdps(30):  # t = 0 is set exactly below: its cancellation does not count
+            scale = max([mpmath.mpf(floor), *(abs(row[j]) for row in total for j in kept)])
+            largest = max((row[j] for row in sizes for j in kept), default=mpmath.mpf(0))
             # parts that cancel to exactly 0 (no floor): every digit may be lost
             lost = largest / scale if scale > 0 else (mpmath.inf if largest > 0 else 0)
         if lost > 10 and digits < limits().max_dps:
             more = limits().max_dps if lost == mpmath.inf else \
                 min(digits + int(mpmath.log10(lost)) + 5, limits().max_dps)
             total, bounds, _ = self._mp_parts(times, order, more, floor)
-        start = self._start(times, order)
         if start is not None:  # the exact state after the jump, to the digits asked
             columns, exact = start
             for i, value in enumerate(exact):
