@@ -218,3 +218,18 @@ def test_massless_node_held_by_a_dashpot():
 def test_massless_node_without_a_dashpot_is_refused_clearly():
     with pytest.raises(SceneError, match="massless"):
         solve(maxwell(k_spring_only=True), method="modal")
+
+
+def test_a_whole_block_bounds_its_own_exponential():
+    # found by tests/test_properties.py: a 3-mass scene held as one 6 x 6 block; its
+    # perturbed decompositions share e^{Tt}'s rounding, so the sampled bound (4.1e-15)
+    # missed the true error (1.05e-14 at t = 3): every value within its bound, against
+    # flint's arb matrix exponential
+    scene = Scene.from_matrices(M=[[1, 0, 0], [0, 3, 0], [0, 0, 1]],
+                                C=[["15/4", "-1/2", -2], ["-1/2", 2, 0], [-2, 0, "7/2"]],
+                                K=[["3/2", -1, "-1/2"], [-1, "31/12", "-1/3"], ["-1/2", "-1/3", "7/6"]],
+                                x0=[0, 0, 1], v0=[0, 0, 0])
+    times = [0.4, 1.1, 3.0, 8.5]
+    motion = solve(scene, method="modal").motion
+    reference = np.array(reference_motion_arb(scene, times, digits=30), dtype=float)
+    assert np.all(np.abs(motion.values(np.array(times)) - reference) <= motion.bound(np.array(times)))
