@@ -339,17 +339,21 @@ class Block:
     def exp_matrices(self, times: np.ndarray) -> np.ndarray:
         """e^{T t} for each t, shape (len(times), m, m), as e^{shift·t} e^{(T - shift)t}."""
         times = np.asarray(times, dtype=float)
-        N = self.T - self.shift * np.eye(len(self.T))
-        norm = np.linalg.norm(N, 1)
+        N, squarings = self._shifted(times)
         out = np.empty((len(times), len(self.T), len(self.T)), dtype=complex)
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm * np.abs(times), 1e-300))))
-        squarings = np.minimum(squarings, 2000).astype(int)
         for s in np.unique(squarings):
             cols = np.flatnonzero(squarings == s)
             out[cols] = _exp_batch(N, times[cols], int(s))
         with np.errstate(over="ignore", invalid="ignore"):
             return out * np.exp(self.shift * times)[:, None, None]
+
+    def _shifted(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """T − shift·I and the squarings that bring its 1-norm times |t| to at most 1."""
+        N = self.T - self.shift * np.eye(len(self.T))
+        norm = np.linalg.norm(N, 1)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm * np.abs(times), 1e-300))))
+        return N, np.minimum(squarings, 2000).astype(int)
 
     def exp_times(self, times: np.ndarray, vector: np.ndarray) -> np.ndarray:
         """e^{T t}·vector for each t, shape (m, len(times))."""
@@ -362,12 +366,9 @@ class Block:
         |e^{shift·t}|. The perturbed decompositions of the sampled bound share this
         rounding, so they cannot see it."""
         times = np.abs(np.asarray(times, dtype=float))
-        N = self.T - self.shift * np.eye(len(self.T))
-        norm = np.linalg.norm(N, 1)
+        N, squarings = self._shifted(times)
         out = np.empty(len(times))
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            squarings = np.maximum(0, np.ceil(np.log2(np.maximum(norm * times, 1e-300))))
-            squarings = np.minimum(squarings, 2000).astype(int)
             for s in np.unique(squarings):
                 cols = np.flatnonzero(squarings == s)
                 out[cols] = _exp_batch_error(N, times[cols], int(s))

@@ -18,6 +18,9 @@ they do. Anything unsupported (a free symbol, an unknown function) goes to
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import mpmath
 import sympy as sp
 from sympy.polys.rootoftools import ComplexRootOf
@@ -135,20 +138,12 @@ def mp_value(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     >>> sp.N(expr, 30)
     0.794145339335825321676835577914
     """
-    caches = {} if caches is None else caches
     expr = sp.sympify(expr)
-    guard = 30
-    try:
-        low = _at_or_none(expr, dps + guard, caches)
-        while guard <= _MAX_GUARD:
-            high = _at_or_none(expr, dps + 2 * guard, caches)
-            if low is not None and high is not None and _agree(low, high, dps):
-                with mpmath.workdps(dps):
-                    return +mpmath.re(high)
-            low, guard = high, 2 * guard
-    except (_Unsupported, TypeError, ValueError):
-        pass
-    return _fallback(expr, dps)
+    high = _converged(expr, dps, {} if caches is None else caches, _agree)
+    if high is None:
+        return _fallback(expr, dps)
+    with mpmath.workdps(dps):
+        return +mpmath.re(high)
 
 
 def mp_size(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
@@ -164,23 +159,35 @@ def mp_size(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     >>> float(mp_size(r**2 - 2, 40)) < 1e-40
     True
     """
-    caches = {} if caches is None else caches
     expr = sp.sympify(expr)
+    high = _converged(expr, dps, {} if caches is None else caches, _agree_absolute)
+    if high is not None:
+        return abs(high)
+    size = sp.Abs(numeric_value(expr, dps))   # SymPy's adaptive evalf: complex values too
+    with mpmath.workdps(dps):
+        return mpmath.mpf(sp.Float(size, dps)._mpf_)
+
+
+def _converged(expr: sp.Expr, dps: int, caches: dict, agree: Callable[[Any, Any, int], bool]):
+    """The evaluation at ``dps + 2g`` digits once it ``agree``s with the one at ``dps + g``
+    (g = 30, doubled up to _MAX_GUARD), or None (unsupported nodes, no agreement)."""
     guard = 30
     try:
         low = _at_or_none(expr, dps + guard, caches)
         while guard <= _MAX_GUARD:
             high = _at_or_none(expr, dps + 2 * guard, caches)
-            if low is not None and high is not None:
-                with mpmath.workdps(dps + 10):
-                    if abs(low - high) <= mpmath.mpf(10) ** (-dps) * max(1, abs(high)):
-                        return abs(high)
+            if low is not None and high is not None and agree(low, high, dps):
+                return high
             low, guard = high, 2 * guard
     except (_Unsupported, TypeError, ValueError):
         pass
-    size = sp.Abs(numeric_value(expr, dps))   # SymPy's adaptive evalf: complex values too
-    with mpmath.workdps(dps):
-        return mpmath.mpf(sp.Float(size, dps)._mpf_)
+    return None
+
+
+def _agree_absolute(low, high, dps: int) -> bool:
+    """Do two evaluations agree within 10^-dps·max(1, |high|)?"""
+    with mpmath.workdps(dps + 10):
+        return abs(low - high) <= mpmath.mpf(10) ** (-dps) * max(1, abs(high))
 
 
 def _at_or_none(expr: sp.Expr, dps: int, caches: dict):

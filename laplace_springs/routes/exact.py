@@ -239,7 +239,8 @@ class ExactSolution(Solution):
         sums of 1e33 that add up to 0.05) the evaluation is redone with the digits lost."""
         total, bounds, sizes = self._mp_parts(times, order, digits, floor)
         start = self._start(times, order)
-        kept = [j for j in range(len(times)) if start is None or j not in set(start[0].tolist())]
+        exact_columns = set() if start is None else set(start[0].tolist())
+        kept = [j for j in range(len(times)) if j not in exact_columns]
         with mpmath.workdps(30):  # t = 0 is set exactly below: its cancellation does not count
             scale = max([mpmath.mpf(floor), *(abs(row[j]) for row in total for j in kept)])
             largest = max((row[j] for row in sizes for j in kept), default=mpmath.mpf(0))
