@@ -28,7 +28,8 @@ import numpy as np
 
 from .limits import limits
 
-__all__ = ["check_target", "reference_scale", "column_scales", "escalate_columns"]
+__all__ = ["check_target", "reference_scale", "column_scales", "column_verdicts",
+           "escalate_columns"]
 
 
 def check_target(target: float | None) -> float:
@@ -57,16 +58,41 @@ def column_scales(values: np.ndarray, floor: float) -> np.ndarray:
     """max(‖x(t)‖∞, S₀) for each column (time) of ``values``."""
     if values.size == 0:
         return np.zeros(values.shape[1] if values.ndim == 2 else 0)
-    with np.errstate(invalid="ignore"):
-        return np.maximum(np.max(np.abs(values), axis=0), floor)
+    return np.maximum(np.abs(values).max(axis=0), floor)
+
+
+def column_verdicts(values: np.ndarray, bounds: np.ndarray, floor: float,
+                    target: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per column (time): whether it escalates, and its largest bound over its scale.
+
+    A column escalates when some bound exceeds ``target`` times its own scale
+    max(‖x(t)‖∞, S₀), or when a value or bound is not finite (its relative bound is then
+    inf). Only the column's own numbers are looked at.
+
+    Examples
+    --------
+    >>> values = np.array([[1.0, 1.0, 0.0]])
+    >>> bounds = np.array([[1e-16, 1e-12, np.inf]])
+    >>> pending, relative = column_verdicts(values, bounds, 0.5, 1e-13)
+    >>> pending.tolist(), relative.tolist()
+    ([False, True, True], [1e-16, 1e-12, inf])
+    """
+    if values.shape[1] == 0:
+        return np.zeros(0, dtype=bool), np.zeros(0)
+    scale = column_scales(values, floor)
+    top = bounds.max(axis=0)
+    bad = ~(np.isfinite(values).all(axis=0) & np.isfinite(top))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        relative = np.where(top == 0, 0.0, top / np.where(scale > 0, scale, np.inf))
+        pending = bad | (top > target * scale)
+    relative[bad | np.isnan(relative)] = np.inf
+    return pending, relative
 
 
 def escalate_columns(values: np.ndarray, bounds: np.ndarray, floor: float,
                      target: float) -> np.ndarray:
-    """The columns (times) whose bound misses the contract: a boolean mask.
-
-    A column escalates when some bound exceeds ``target`` times its own scale, or when a
-    value or bound is not finite. Only the column's own numbers are looked at.
+    """The columns (times) whose bound misses the contract: a boolean mask
+    (:func:`column_verdicts`).
 
     Examples
     --------
@@ -75,7 +101,4 @@ def escalate_columns(values: np.ndarray, bounds: np.ndarray, floor: float,
     >>> escalate_columns(values, bounds, 0.5, 1e-13).tolist()
     [False, True, True]
     """
-    scale = column_scales(values, floor)
-    with np.errstate(invalid="ignore"):
-        bad = ~np.all(np.isfinite(values) & np.isfinite(bounds), axis=0)
-        return bad | np.any(bounds > target * scale[None, :], axis=0)
+    return column_verdicts(values, bounds, floor, target)[0]

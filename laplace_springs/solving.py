@@ -132,9 +132,16 @@ def _build(name: str, scene: Scene, chosen: Plan, target: float) -> Solution | R
 def _probe(solution: Solution) -> float:
     """The engine's own largest bound at Limits.probe_times, relative to the scale (a scene
     whose scales float64 cannot separate: the next engine of the plan may do better)."""
-    times = as_times(np.array(limits().probe_times))
+    given = limits().probe_times
+    times = _PROBES.get(given)
+    if times is None:
+        times = _PROBES[given] = as_times(np.array(given))
     values, bounds = solution._float(times, 0)
     return float(np.max(relative_bounds(values, bounds, solution._floor(0)), initial=0.0))
+
+
+#: Limits.probe_times -> their Times (read once).
+_PROBES: dict[tuple[float, ...], Any] = {}
 
 
 def _warnings(solution: Solution) -> str:

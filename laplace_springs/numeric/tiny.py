@@ -54,16 +54,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
-from flint import fmpq, fmpq_mat, fmpz
+from flint import fmpq, fmpq_mat
 
 from ..kernels.dd import U, two_prod
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
-from .first_order import scene_cache
+from .first_order import rational_entries, scene_cache
 from .times import Times, as_times  # noqa: F401  (doctests)
 from .tiny_blocks import BlockMotion
 
@@ -130,6 +131,10 @@ class TinyData:
 
     def normalized(self) -> tuple[Entries, Entries]:
         """The nonzero entries of M⁻¹K and M⁻¹C, exactly."""
+        return self._normalized
+
+    @cached_property
+    def _normalized(self) -> tuple[Entries, Entries]:
         n = self.n
         if all(i == j for i, j in self.M):
             mass = {i: value for (i, _), value in self.M.items()}
@@ -151,26 +156,6 @@ def _matrix(entries: Entries, n: int) -> Any:
     return matrix
 
 
-def _rational(value: Any) -> Any:
-    """A domain element of ZZ or QQ (flint or Python ground types) as a flint fmpq."""
-    if isinstance(value, fmpq):
-        return value
-    if isinstance(value, (int, fmpz)):
-        return fmpq(value)
-    return fmpq(int(value.numerator), int(value.denominator))
-
-
-def _entries(matrix: Any) -> Entries | None:
-    """The nonzero entries of an exact matrix with integer or rational entries as fmpq,
-    read from its domain representation (no SymPy objects), or None."""
-    rep = getattr(matrix, "_rep", None)
-    if rep is None or not (rep.domain.is_ZZ or rep.domain.is_QQ):
-        return None
-    rows = rep.rep if isinstance(rep.rep, dict) else rep.to_sdm()
-    return {(i, j): _rational(value) for i, row in rows.items()
-            for j, value in row.items() if value}
-
-
 def _read(scene: Scene) -> TinyData | str:
     """The exact data, or why the tiny engine cannot take the scene (a sentence)."""
     n = scene.n
@@ -179,7 +164,7 @@ def _read(scene: Scene) -> TinyData | str:
         return f"coordinates {n:,} > Limits.tiny_max_coordinates = {most:,}"
     if scene.sampled is not None or (scene.forcing is not None and scene.is_forced):
         return "the scene is forced"
-    read = [_entries(getattr(scene, name)) for name in ("M", "C", "K", "x0", "v0")]
+    read = [rational_entries(scene, name) for name in ("M", "C", "K", "x0", "v0")]
     found = [entries for entries in read if entries is not None]
     if len(found) < len(read):
         return "needs rational entries (numbers, no symbols)"

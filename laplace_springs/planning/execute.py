@@ -21,7 +21,7 @@ import numpy as np
 
 from ..limits import limits
 from ..numeric.times import Times
-from ..policy import column_scales, escalate_columns
+from ..policy import column_verdicts
 from .engines import Refusal
 from .plan import Plan
 from .progress import Progress
@@ -80,14 +80,7 @@ class EvaluationReport:
 
 def relative_bounds(values: np.ndarray, bounds: np.ndarray, floor: float) -> np.ndarray:
     """Per column, the largest bound over the scale (inf for a non-finite value or bound)."""
-    if values.shape[1] == 0:
-        return np.zeros(0)
-    scale = column_scales(values, floor)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        worst = np.max(bounds, axis=0) / np.where(scale > 0, scale, np.inf)
-        worst = np.where(np.max(bounds, axis=0) == 0, 0.0, worst)
-        bad = ~np.all(np.isfinite(values) & np.isfinite(bounds), axis=0)
-    return np.where(bad | np.isnan(worst), np.inf, worst)
+    return column_verdicts(values, bounds, floor, 0.0)[1]
 
 
 def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Times, n: int,
@@ -115,53 +108,93 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
         ``Limits.progress_after_seconds``).
     """
     count = len(times)
-    values = np.full((n, count), np.nan)
-    bounds = np.full((n, count), np.inf)
-    source = np.full(count, "", dtype=object)
-    pending = np.ones(count, dtype=bool)
     refusals: list[Refusal] = []
     show = plan.seconds > limits().progress_after_seconds if progress is None else progress
     bar = Progress(count * max(len(plan.chain), 1), enabled=bool(show), unit="evaluations")
+    state: _Kept | None = None
     try:
         for name in plan.chain:
-            columns = np.flatnonzero(pending & (times.hi <= plan.horizons.get(name, np.inf)))
-            if columns.size == 0:
-                continue
-            evaluator = build(name)
-            if isinstance(evaluator, Refusal):
-                refusals.append(evaluator)
-                continue
-            for chunk in _chunks(columns, n):
-                bar.update(name, f"{chunk.size} times")
-                _keep(evaluator(times.subset(chunk), order, target), chunk, name,
-                      values, bounds, source)
-                bar.advance(chunk.size)
-            pending = escalate_columns(values, bounds, floor, target)
-            if not pending.any():
+            horizon = plan.horizons.get(name, np.inf)
+            if state is None and plan.request.t_max <= horizon and count * n <= _chunk_values():
+                evaluator = build(name)  # the first engine takes every time in one call
+                if isinstance(evaluator, Refusal):
+                    refusals.append(evaluator)
+                    continue
+                bar.update(name, f"{count} times")
+                state = _Kept.taking(evaluator(times, order, target), name, floor, target)
+                bar.advance(count)
+            else:
+                state = state or _Kept.empty(n, count)
+                columns = np.flatnonzero(state.pending & (times.hi <= horizon))
+                if columns.size == 0:
+                    continue
+                evaluator = build(name)
+                if isinstance(evaluator, Refusal):
+                    refusals.append(evaluator)
+                    continue
+                for chunk in _chunks(columns, n):
+                    bar.update(name, f"{chunk.size} times")
+                    state.keep(evaluator(times.subset(chunk), order, target), chunk, name)
+                    bar.advance(chunk.size)
+                state.judge(floor, target)
+            if not state.pending.any():
                 break
     finally:
         bar.close()
-    report = EvaluationReport(plan, tuple(source), relative_bounds(values, bounds, floor),
-                              tuple(refusals))
-    return values, bounds, report
+    state = state or _Kept.empty(n, count)
+    report = EvaluationReport(plan, tuple(state.source), state.relative, tuple(refusals))
+    return state.values, state.bounds, report
+
+
+@dataclass(eq=False)
+class _Kept:
+    """The values kept so far, their bounds, the engine of each time, and the verdicts."""
+
+    values: np.ndarray
+    bounds: np.ndarray
+    source: np.ndarray
+    pending: np.ndarray
+    relative: np.ndarray
+
+    @classmethod
+    def empty(cls, n: int, count: int) -> _Kept:
+        return cls(np.full((n, count), np.nan), np.full((n, count), np.inf),
+                   np.full(count, "", dtype=object), np.ones(count, dtype=bool),
+                   np.full(count, np.inf))
+
+    @classmethod
+    def taking(cls, result: tuple[np.ndarray, np.ndarray], name: str, floor: float,
+               target: float) -> _Kept:
+        """Every time from one engine's call."""
+        values, bounds = (np.array(a, dtype=float) for a in result)
+        kept = cls(values, bounds, np.full(values.shape[1], name, dtype=object),
+                   np.zeros(0, dtype=bool), np.zeros(0))
+        kept.judge(floor, target)
+        return kept
+
+    def judge(self, floor: float, target: float) -> None:
+        self.pending, self.relative = column_verdicts(self.values, self.bounds, floor, target)
+
+    def keep(self, result: tuple[np.ndarray, np.ndarray], chunk: np.ndarray, name: str) -> None:
+        """Per time, keep the new values where their largest bound is smaller."""
+        new, new_bounds = result
+        finite = np.isfinite(new)
+        with np.errstate(invalid="ignore"):
+            old_worst = self.bounds[:, chunk].max(axis=0)
+            new_worst = np.where(finite, new_bounds, np.inf).max(axis=0)
+            take = ~(new_worst >= old_worst) & finite.all(axis=0) \
+                | np.isnan(self.values[:, chunk]).any(axis=0)
+        columns = chunk[take]
+        self.values[:, columns] = new[:, take]
+        self.bounds[:, columns] = new_bounds[:, take]
+        self.source[columns] = name
+
+
+def _chunk_values() -> int:
+    return limits().evaluation_chunk_values
 
 
 def _chunks(columns: np.ndarray, n: int) -> list[np.ndarray]:
     """Columns in pieces of at most Limits.evaluation_chunk_values values."""
-    size = max(1, limits().evaluation_chunk_values // max(n, 1))
+    size = max(1, _chunk_values() // max(n, 1))
     return [columns[i:i + size] for i in range(0, columns.size, size)]
-
-
-def _keep(result: tuple[np.ndarray, np.ndarray], chunk: np.ndarray, name: str,
-          values: np.ndarray, bounds: np.ndarray, source: Any) -> None:
-    """Per time, keep the new values where their largest bound is smaller."""
-    new, new_bounds = result
-    with np.errstate(invalid="ignore"):
-        old_worst = np.max(bounds[:, chunk], axis=0)
-        new_worst = np.max(np.where(np.isfinite(new), new_bounds, np.inf), axis=0)
-        take = ~(new_worst >= old_worst) & np.all(np.isfinite(new), axis=0) \
-            | np.isnan(values[:, chunk]).any(axis=0)
-    columns = chunk[take]
-    values[:, columns] = new[:, take]
-    bounds[:, columns] = new_bounds[:, take]
-    source[columns] = name

@@ -12,7 +12,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
+from ..limits import limits
 from .engines import ENGINE_NAMES, ENGINES, Cost, Engine, Refusal, engine
 from .facts import SceneFacts
 from .request import Request
@@ -124,8 +126,28 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    names = set(ENGINE_NAMES if available is None else available)
-    built = set(built)
+    names = frozenset(ENGINE_NAMES if available is None else available)
+    key = (facts, request, method, frozenset(built), names)
+    current = limits()
+    found = _MEMO.get(key)
+    if found is not None and found[0] is current:
+        return found[1]
+    made = _plan(facts, request, method, key[3], names)
+    if len(_MEMO) >= _MEMO_SIZE:
+        _MEMO.pop(next(iter(_MEMO)))
+    _MEMO[key] = (current, made)
+    return made
+
+
+#: Plans already made: (facts, request, method, built, available) -> (limits, plan). The
+#: plan is a pure function of these and of the limits in force; a loop over scenes of the
+#: same data (a notebook run again, a battery timing its cases) plans once.
+_MEMO: dict[tuple[Any, ...], tuple[Any, Plan]] = {}
+_MEMO_SIZE = 512
+
+
+def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str],
+          names: frozenset[str]) -> Plan:
     facts = facts.knowing(built)
     serving: list[Engine] = []
     refusals: list[Refusal] = []
@@ -146,7 +168,7 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
                 _reason(chain, costs, method, facts, request, refusals))
 
 
-def _cost(entry: Engine, facts: SceneFacts, request: Request, built: set[str]) -> Cost:
+def _cost(entry: Engine, facts: SceneFacts, request: Request, built: frozenset[str]) -> Cost:
     cost = entry.cost(facts, request)
     return Cost(0.0, cost.run, cost.memory) if entry.name in built else cost
 

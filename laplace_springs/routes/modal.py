@@ -67,8 +67,8 @@ class ModalSolution(Solution):
     def poles(self) -> np.ndarray:
         return self.motion.poles()
 
-    @property
-    def _spectral_radius(self) -> float:
+    @cached_property
+    def _spectral_radius(self) -> float:  # the motion's poles do not change
         if isinstance(self.motion, ChebyshevMotion):  # no eigenvalues computed for evaluate()
             return self.motion.spectral_radius
         return float(np.max(np.abs(self.poles), initial=0.0))
