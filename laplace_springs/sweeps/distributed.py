@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import shown
 from .parameters import ParameterSets
@@ -37,6 +38,7 @@ def run_on_client(client: Any, plan: SweepPlan, sets: ParameterSets, bounds: lis
     if not (hasattr(client, "submit") and hasattr(client, "gather")):
         raise SceneError(f"sweep: client must be a dask.distributed.Client, got {shown(client)}")
     futures = {}
+    options = {**options, "limits": limits()}  # the caller's, not the workers' defaults
     for start, stop in bounds:  # each task carries its own sets: nothing to lose but the task
         future = client.submit(run_chunk, plan, sets.subset(start, stop), start, pure=False,
                                **options)

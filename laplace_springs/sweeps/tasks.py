@@ -9,11 +9,12 @@ file or a shared array), the quantities are reduced, and only per-set summaries 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
 
+from ..limits import Limits, using_limits
 from .allocator import roomy_allocator
 from .chunks import ChunkResult, evaluate_chunk
 from .parameters import ParameterSets
@@ -49,16 +50,18 @@ def run_chunk(plan: SweepPlan, sets: ParameterSets, start: int, times: np.ndarra
               outputs: list[int], order: int, target: float, on_error: str,
               stores: tuple[Store | None, Store | None] = (None, None),
               quantities: Mapping[str, Any] | None = None,
-              keep: tuple[bool, bool] = (True, False)) -> TaskResult:
+              keep: tuple[bool, bool] = (True, False), limits: Limits | None = None) -> TaskResult:
     """Evaluate the chunk ``sets`` (rows ``start`` … ``start + len(sets) − 1`` of the
     sweep) and deliver them (see the module notes).
 
     ``stores`` are the destinations of values and bounds (None: returned to the caller if
-    ``keep`` says so). The evaluation runs under :func:`~.allocator.roomy_allocator` (a
-    Dask worker fixes glibc's thresholds low, which costs the chunk's NumPy temporaries
-    page faults and up to half its speed).
+    ``keep`` says so). ``limits`` are the caller's (a task on a Dask worker runs under them,
+    not under the worker's defaults; None: those in force). The evaluation runs under
+    :func:`~.allocator.roomy_allocator` (a Dask worker fixes glibc's thresholds low, which
+    costs the chunk's NumPy temporaries page faults and up to half its speed).
     """
-    with roomy_allocator():
+    changes = {} if limits is None else {f.name: getattr(limits, f.name) for f in fields(limits)}
+    with using_limits(**changes), roomy_allocator():
         return _deliver(evaluate_chunk(plan, sets, times, outputs=outputs, order=order,
                                        target=target, on_error=on_error),
                         start, times, stores, quantities, keep)
