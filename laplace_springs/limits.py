@@ -143,6 +143,14 @@ class Limits:
     exact_modes_max_coordinates: int = 8
     #: Times at which "auto" checks the modal route's own bound before it keeps it.
     probe_times: tuple[float, ...] = (0.0, 1.0)
+    #: Smallest scene the numeric forced route ("exo") takes: below it exact partial
+    #: fractions give closed forms in seconds (measured: a chain of 12 masses with one
+    #: dashpot and cos(2t), solve and 11 times, 17 s exact, 0.6 s exo; 30 masses: the exact
+    #: route refuses, a degree-60 factor of Δ).
+    exo_min_coordinates: int = 9
+    #: Most periods of a periodic force the numeric forced route sums for one evaluation
+    #: (each period is one more evaluation of its piece at the shifted times).
+    exo_max_periods: int = 20_000
     #: A value whose error bound, after every engine of the plan has tried, still exceeds
     #: max(target, this) times the contract's scale is refused (a LimitError naming the
     #: way out), with or without ``return_error``: no value off by more than 1e-10 of the

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from .limits import limits
-from .model.errors import FloatRangeError, LimitError, SceneError
+from .model.errors import FloatRangeError, InversionError, LimitError, SceneError
 from .model.sampled import formula_part
 from .model.scene import Scene
 from .numeric.first_order import symbolic_entries
@@ -100,7 +100,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
                 return _finish(best, chosen, method, refusals)
             raise _no_engine(chosen, method, refusals, facts)
         name = chosen.chain[0]
-        solution = _build(name, scene, chosen, target)
+        solution = _build(name, scene, chosen, target, method)
         if isinstance(solution, Refusal):
             refusals.append(solution)
         elif method == "auto" and engine(name).tier == 0 and name != "exact" \
@@ -121,12 +121,18 @@ def _finish(solution: Solution, chosen: Plan, method: str, refusals: list[Refusa
     return solution
 
 
-def _build(name: str, scene: Scene, chosen: Plan, target: float) -> Solution | Refusal:
-    """The solution whose own engine is ``name``, or why float64 cannot hold the scene."""
+def _build(name: str, scene: Scene, chosen: Plan, target: float,
+           method: str = "auto") -> Solution | Refusal:
+    """The solution whose own engine is ``name``, or why float64 cannot hold the scene (or,
+    for "auto", why the exact route cannot: the plan's next engine may serve)."""
     try:
         return solution_for(name, scene, reason=chosen.reason, target=target)
     except (FloatRangeError, np.linalg.LinAlgError) as exc:
         return Refusal(name, f"cannot hold the scene in float64: {exc}")
+    except InversionError as exc:  # the exact route's own limits (a factor's degree)
+        if name not in ("exact", "mp") or method != "auto":
+            raise
+        return Refusal(name, str(exc), "max_exact_factor_degree")
 
 
 def _probe(solution: Solution) -> float:

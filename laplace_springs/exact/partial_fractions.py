@@ -214,8 +214,8 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
                 f"fourth power of the degree (degree 16: 0.4 s, 24: 1.2 s, 40: 10 s{longer}); the numeric "
                 "routes evaluate any degree for the free motion and for sampled forces "
                 "(ls.solve(scene, method='modal') or method='certified'; a free scene with rational "
-                "entries is also solved exactly in named roots), but formula and periodic forces "
-                "are taken by the exact route only: a force given as samples (ls.sampled) is served")
+                "entries is also solved exactly in named roots); formula and periodic forces on "
+                "numeric scenes go by the inputs' own dynamics (ls.solve(scene), method='exo')")
     if is_symbolic_biquadratic(q):
         return None
     symbols = sorted(set().union(*(c.free_symbols for c in coeffs)), key=str)

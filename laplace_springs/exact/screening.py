@@ -175,13 +175,13 @@ def exact_refusal(scene: Scene) -> str | None:
     if not stays:
         return None
     if not symbols:
-        unforced = " (for the free motion: they take no forcing)" if scene.is_forced else ""
+        way = ("ls.solve(scene) (method='exo': the inputs' own dynamics joined to the scene)"
+               if scene.is_forced else "ls.solve(scene, method='modal') or method='certified'")
         return (
             f"Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree {max(stays)} > "
             f"Limits.max_exact_factor_degree = {limits().max_exact_factor_degree}: exact terms cost about the "
             "fourth power of the degree (degree 24: 1.2 s per coordinate, 40: 10 s); the "
-            "numeric routes evaluate any degree: ls.solve(scene, method='modal') or "
-            f"method='certified'{unforced}")
+            f"numeric routes evaluate any degree: {way}")
     names = ", ".join(sorted(symbol.name for symbol in symbols))
     largest = max(stays)
     shown = f"{largest}" if largest == 2 * n else f"at least {largest}"

@@ -219,6 +219,24 @@ def _exact_refusal(facts: SceneFacts, request: Request) -> str | None:
     return _size(facts, "max_exact_coordinates", "coordinates")
 
 
+def _exo_refusal(facts: SceneFacts, request: Request) -> str | None:
+    """Formula and periodic forces on numeric scenes from Limits.exo_min_coordinates on
+    (below, exact partial fractions give closed forms in seconds)."""
+    if not facts.forced:
+        return "the scene is not forced (the free-motion engines serve it)"
+    if facts.symbolic:
+        return "the scene has symbols"
+    if facts.sampled:
+        return "sampled forces take the sampled route"
+    if not facts.first_order:
+        return "the scene has no first-order form (massless nodes not held by dashpots)"
+    least = limits().exo_min_coordinates
+    if facts.n < least:
+        return (f"coordinates {facts.n} < Limits.exo_min_coordinates = {least}: exact partial "
+                "fractions serve it with a closed form")
+    return None
+
+
 def _mp_refusal(facts: SceneFacts, request: Request) -> str | None:
     return _size(facts, "exact_fallback_max_coordinates", "coordinates")
 
@@ -337,6 +355,15 @@ def _exact_cost(facts: SceneFacts, request: Request) -> Cost:
     return Cost(build, _run(request, 1e-5 if facts.periodic else 2e-6, n))
 
 
+def _exo_cost(facts: SceneFacts, request: Request) -> Cost:
+    """The augmented scene (a few more first-order states per input) decomposed by the
+    general modal engine, then one evaluation per switching time (and per period of a
+    periodic force, about 50 for 100 times up to t = 100)."""
+    order = 2 * facts.n + 4
+    repeats = 50 if facts.periodic else 1
+    return Cost(2e-3 + 1.5e-8 * order**3, repeats * (2e-4 + _run(request, 1e-8 * order, facts.n)))
+
+
 def _mp_cost(facts: SceneFacts, request: Request) -> Cost:
     """The exact terms in mpmath: about 2 ms a value up to a few hundred digits, growing
     like digits^1.66 beyond (one mass: 1.6e-4 s a value at 1,000 digits, 6e-3 s at 10,000)."""
@@ -373,6 +400,8 @@ ENGINES: tuple[Engine, ...] = (
            expectation=_krylov_expectation, precision=2e-14),
     Engine("exact", 0, "exact partial fractions, float64 pole sums", _exact_refusal,
            _exact_cost, precision=2e-15),
+    Engine("exo", 0, "the inputs' own dynamics joined to the scene, solved by the free-motion "
+           "engines", _exo_refusal, _exo_cost, precision=1e-13),
     Engine("refined", 1, "eigenpairs refined in double-double, phases ωt in double-double",
            _refined_refusal, _refined_cost, precision=1e-15),
     Engine("ball", 2, "certified poles evaluated in ball arithmetic", _certified_refusal,

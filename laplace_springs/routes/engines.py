@@ -12,6 +12,7 @@ Importing this module registers the builders with the executor
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -31,6 +32,7 @@ from ..numeric.tiny import tiny_motion
 from ..planning.engines import Refusal
 from ..planning.execute import Evaluator, register_engine
 from ..solution import Solution
+from . import exo
 from .certified import CertifiedSolution
 from .exact import ExactSolution
 from .krylov import KrylovSolution
@@ -101,7 +103,15 @@ _FLOAT_SOLUTIONS: dict[str, Callable[[Any, str, float], Solution | Refusal]] = {
         scene, refined_motion(scene), reason=reason, target=target),
     "tiny": lambda scene, reason, target: ModalSolution(
         scene, tiny_motion(scene), reason=reason, target=target),
+    "exo": lambda scene, reason, target: exo.solve_exo(scene, _solver(), target=target),
 }
+
+
+def _solver() -> Callable[..., Solution]:
+    """``laplace_springs.solve`` (the exo engine solves its augmented scenes with it; the
+    module imports this one, so it is looked up when first needed)."""
+    solve: Callable[..., Solution] = sys.modules["laplace_springs.solving"].solve
+    return solve
 
 
 def _numeric_host(name: str) -> Callable[[Solution], Any]:

@@ -1,0 +1,359 @@
+"""Formula and periodic forces on scenes too large for exact partial fractions: the input's
+own dynamics (an exosystem) joined to the scene, solved by the numeric engines.
+
+Each forcing entry has the exact transform F(s) = Σ_τ e^{-sτ} R_τ(s) (and, for periodic
+inputs, Σ_τ e^{-sτ} R_τ(s)/(1 − e^{-sT})) with rational R_τ = d + P/Q, deg P < deg Q
+(:func:`~laplace_springs.model.forcing.input_transform`). P/Q is the impulse response of
+w' = S w, f = cᵀw, w(0) = e_q with S the companion matrix of the monic Q and c the
+coefficients of P; the constant d is an impulse (a jump d·M⁻¹e_i of the velocity). The
+state w joins the scene as q massless nodes held by unit dashpots (rows C = I, K = −S)
+that push on coordinate i through K[i, node] = −c: an unforced scene whose motion is the
+forced one, served by the numeric engines of the planner with their own bounds.
+
+One augmented scene is built per switching time τ (and per periodic part): the one of
+τ = 0 carries the initial data, the others start from rest and are evaluated at t − τ
+for t ≥ τ (periodic parts at t − τ − kT for every period k with τ + kT ≤ t), and the
+values and bounds of the pieces are summed. Times are shifted exactly (rational τ and
+T, the float time's exact value).
+
+The contract's floor is S₀ plus the static displacement of the largest force met at a few
+sample times, |f|·max|M⁻¹|/ρ², as for sampled forces.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..limits import limits
+from ..model.errors import LimitError, SceneError
+from ..model.forcing import input_transform
+from ..model.scene import Scene
+from ..model.symbols import TIME
+from ..numeric.first_order import massless_nodes, scene_arrays
+from ..numeric.times import Times
+from ..planning.execute import Evaluator
+from ..solution import Solution, Verification
+
+__all__ = ["ExoSolution", "solve_exo", "exo_refusal"]
+
+_S = sp.Symbol("s")
+#: Sample times at which the forces are read for the contract's floor.
+_FORCE_SAMPLES = ("0", "0.37", "1.3", "4.1", "9.7")
+
+
+@dataclass(frozen=True)
+class _Input:
+    """One rational part on one coordinate: impulse d, numerator c (deg < q), monic Q."""
+
+    row: int
+    impulse: sp.Expr
+    numerator: tuple[sp.Expr, ...]   # c_0 .. c_{q-1}
+    denominator: tuple[sp.Expr, ...]  # a_0 .. a_{q-1} of s^q + a_{q-1}s^{q-1} + ... + a_0
+
+
+@dataclass(frozen=True)
+class _Piece:
+    """An augmented scene switched on at ``delay`` (repeated every ``period`` if given)."""
+
+    delay: Fraction
+    period: Fraction | None
+    scene: Scene
+    impulsive: bool = False   # an impulse starts it (its velocity jumps at the switch)
+    at_rest: bool = True      # it starts from rest (every piece but the initial data's)
+
+
+def _rational_part(R: sp.Expr, row: int, entry: str) -> _Input:
+    num, den = sp.fraction(sp.together(R))
+    P, Q = sp.Poly(num, _S, domain="EX"), sp.Poly(den, _S, domain="EX")
+    lead = Q.LC()
+    P, Q = P.mul_ground(1 / lead), Q.mul_ground(1 / lead)
+    quotient, remainder = sp.div(P, Q, _S)
+    if quotient.degree() > 0:
+        raise SceneError(f"{entry}: derivatives of impulses (DiracDelta') are not supported "
+                         "by the numeric forced route")
+    q = Q.degree()
+    coefficients = list(reversed(remainder.all_coeffs())) if not remainder.is_zero else []
+    coefficients += [sp.Integer(0)] * (q - len(coefficients))
+    low = list(reversed(Q.all_coeffs()))[:q]
+    return _Input(row, sp.nsimplify(quotient.as_expr()) if quotient.degree() == 0 else sp.Integer(0),
+                  tuple(coefficients), tuple(low))
+
+
+def _exact_fraction(value: sp.Expr, entry: str) -> Fraction:
+    value = sp.nsimplify(value) if not value.is_Rational else value
+    if not value.is_Rational:
+        raise SceneError(f"{entry}: the switching time or period {value} must be a rational "
+                         "number for the numeric forced route")
+    return Fraction(int(value.p), int(value.q))
+
+
+def _inputs(scene: Scene) -> dict[tuple[Fraction, Fraction | None], list[_Input]]:
+    """(delay, period or None) -> the rational parts switched on there."""
+    groups: dict[tuple[Fraction, Fraction | None], list[_Input]] = {(Fraction(0), None): []}
+    for row, f in enumerate(scene.forcing or ()):
+        if f == 0:
+            continue
+        entry = f"forcing[{row}]"
+        transform = input_transform(f, entry, _S)
+        if transform.conditions:
+            raise SceneError(f"{entry}: symbolic switching times need the exact route")
+        for tau, R in transform.parts:
+            key: tuple[Fraction, Fraction | None] = (_exact_fraction(tau, entry), None)
+            groups.setdefault(key, []).append(_rational_part(R, row, entry))
+        if transform.periodic:
+            period = _exact_fraction(transform.period, entry)
+            for tau, R in transform.periodic:
+                key = (_exact_fraction(tau, entry), period)
+                groups.setdefault(key, []).append(_rational_part(R, row, entry))
+    return groups
+
+
+def _augmented(scene: Scene, inputs: list[_Input], start: bool, scale: sp.Expr) -> Scene:
+    """The scene with the exosystems of ``inputs`` as massless nodes; the scene's own
+    initial data when ``start``, else rest. The exosystem's state starts at ``scale``
+    (a power of two near the static displacement of the forces) and pushes through
+    −c/scale, so the engines' bounds, relative to the whole state, are relative to the
+    displacements the forces cause."""
+    n = scene.n
+    size = n + sum(len(part.denominator) for part in inputs)
+    M: dict[tuple[int, int], Any] = {}
+    C: dict[tuple[int, int], Any] = {}
+    K: dict[tuple[int, int], Any] = {}
+    for name, target in (("M", M), ("C", C), ("K", K)):
+        for (i, j), value in getattr(scene, name).todok().items():
+            target[i, j] = value
+    x0 = [scene.x0[i] if start else 0 for i in range(n)] + [0] * (size - n)
+    v0 = [scene.v0[i] if start else 0 for i in range(n)] + [0] * (size - n)
+    massless = set(massless_nodes(scene))
+    node = n
+    for part in inputs:
+        if part.impulse != 0:
+            _add_impulse(scene, part, v0, massless)
+        q = len(part.denominator)
+        for k in range(q):
+            C[node + k, node + k] = sp.Integer(1)
+            if k + 1 < q:   # w_k' = w_{k+1}
+                K[node + k, node + k + 1] = sp.Integer(-1)
+            K[node + q - 1, node + k] = K.get((node + q - 1, node + k), 0) + part.denominator[k]
+            if part.numerator[k] != 0:
+                K[part.row, node + k] = K.get((part.row, node + k), 0) - part.numerator[k] / scale
+        if q:
+            x0[node + q - 1] = scale
+        node += q
+    def matrix(entries: dict[tuple[int, int], Any]) -> sp.SparseMatrix:
+        return sp.SparseMatrix(size, size, {key: v for key, v in entries.items() if v != 0})
+    return Scene.from_matrices(M=matrix(M), C=matrix(C), K=matrix(K), x0=x0, v0=v0,
+                               title=scene.title)
+
+
+def _add_impulse(scene: Scene, part: _Input, v0: list[Any], massless: set[int]) -> None:
+    """An impulse d on coordinate i: the velocity jumps by d·M⁻¹e_i."""
+    if part.row in massless:
+        raise SceneError(f"forcing[{part.row}]: an impulse on a massless node is not supported "
+                         "by the numeric forced route")
+    column = scene.M.LUsolve(sp.Matrix([part.impulse if i == part.row else 0
+                                        for i in range(scene.n)]))
+    for i in range(scene.n):
+        v0[i] = v0[i] + column[i]
+
+
+def _force_size(scene: Scene) -> float:
+    """The largest |f_i(t)| met at a few sample times."""
+    force = 0.0
+    for f in scene.forcing or ():
+        if f != 0:
+            for sample in _FORCE_SAMPLES:
+                force = max(force, abs(complex(sp.N(f.subs(TIME, sp.Rational(sample))))))
+    return force
+
+
+def _state_scale(scene: Scene) -> sp.Expr:
+    """A power of two near |f|/k, the static displacement of the forces (k the largest
+    K_ii/M_ii), for the exosystems' initial state."""
+    M, K = scene_arrays(scene)[0], scene_arrays(scene)[2]
+    mass = np.abs(np.diag(M))
+    stiff = float(np.max(np.abs(np.diag(K)) / np.where(mass > 0, mass, np.inf), initial=0.0))
+    size = _force_size(scene) / stiff if stiff > 0 else 1.0
+    if not (0 < size < np.inf):
+        return sp.Integer(1)
+    return sp.Integer(2) ** int(round(math.log2(size)))
+
+
+def exo_refusal(scene: Scene) -> str | None:
+    """Why the numeric forced route cannot take ``scene`` (None when it can)."""
+    if scene.free_symbols:
+        return "the scene has symbols"
+    if scene.sampled is not None:
+        return "sampled forces take the sampled route"
+    if not scene.is_forced:
+        return "the scene is not forced"
+    return None
+
+
+def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | None = None,
+              reason: str = "") -> ExoSolution:
+    """Solve a forced numeric scene through the exosystems of its inputs; ``solver``
+    (:func:`laplace_springs.solve`) solves each augmented, unforced scene.
+
+    Examples
+    --------
+    x'' + 4x = cos(t) from rest: x = (cos t − cos 2t)/3.
+
+    >>> import laplace_springs as ls
+    >>> scene = ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[0], v0=[0], forcing=["cos(t)"])
+    >>> sol = solve_exo(scene, ls.solve)
+    >>> value = float(sol.evaluate([2.0])[0, 0])
+    >>> abs(value - (np.cos(2.0) - np.cos(4.0)) / 3) < 1e-14
+    True
+    """
+    why = exo_refusal(scene)
+    if why is not None:
+        raise SceneError(f"the numeric forced route cannot take this scene: {why}")
+    pieces = []
+    scale = _state_scale(scene)
+    for (delay, period), inputs in sorted(_inputs(scene).items(),
+                                          key=lambda item: (item[0][1] is not None, item[0][0])):
+        start = delay == 0 and period is None
+        if not inputs and not start:
+            continue
+        pieces.append(_Piece(delay, period, _augmented(scene, inputs, start, scale),
+                             any(part.impulse != 0 for part in inputs), not start))
+    solved = [(piece, solver(piece.scene, target=target)) for piece in pieces]
+    method = solved[0][1].method
+    text = reason or (f"the input's exosystems joined to the scene, solved by the {method} engine "
+                      f"({len(solved)} piece{'s' if len(solved) != 1 else ''})")
+    return ExoSolution(scene, solved, reason=text, target=target)
+
+
+class ExoSolution(Solution):
+    """Motion of a forced scene as the sum of augmented unforced scenes (see the module
+    notes). ``method`` is the first piece's engine + ``"+exo"``; ``x`` has no closed form
+    here (use ``method='exact'`` on scenes small enough)."""
+
+    _planned = False
+
+    def __init__(self, scene: Scene, pieces: list[tuple[_Piece, Solution]], *, reason: str,
+                 target: float | None = None) -> None:
+        super().__init__(scene, reason=reason, target=target)
+        self.pieces_solved = pieces
+
+    @property
+    def method(self) -> str:  # type: ignore[override]
+        return f"{self.pieces_solved[0][1].method}+exo"
+
+    @property
+    def x(self) -> sp.ImmutableMatrix:
+        raise SceneError("the numeric forced route gives values, not a closed form; "
+                         "ls.solve(scene, method='exact') gives x(t) where the scene is small "
+                         "enough (Limits.max_exact_factor_degree)")
+
+    @property
+    def poles(self) -> np.ndarray:
+        return self.pieces_solved[0][1].poles
+
+    @property
+    def _spectral_radius(self) -> float:
+        return float(self.pieces_solved[0][1]._spectral_radius)
+
+    @cached_property
+    def _base_floor(self) -> float:
+        """S₀ plus the static displacement of the largest force met at a few times."""
+        M = scene_arrays(self.scene)[0]
+        force = _force_size(self.scene)
+        rho = self._spectral_radius
+        inverse = float(np.max(np.abs(np.linalg.pinv(M)))) if M.size else 0.0
+        return super()._base_floor + (force * inverse / rho**2 if rho > 1e-150 else 0.0)
+
+    def _own_engines(self) -> dict[str, Evaluator]:
+        return {self.method: self._sum}
+
+    def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
+        return self._sum(times, order, self.target)
+
+    def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        return self._sum(times, order, target)  # each piece escalates through its own plan
+
+    def _sum(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
+        n = self.scene.n
+        values = np.zeros((n, len(times)))
+        bounds = np.zeros_like(values)
+        exact = [Fraction(times.exact(i)) for i in range(len(times))] if len(times) else []
+        start = [i for i, t in enumerate(exact) if t == 0]
+        if start and order < 2:  # x(0) = x0 and x'(0+) = v0 (+ impulses at 0): exactly
+            first = self.pieces_solved[0][0].scene
+            data = np.array([float(v) for v in (first.x0 if order == 0 else first.v0)[:n]])
+            values[:, start] = data[:, None]
+            bounds[:, start] = (np.finfo(float).eps / 2 * np.abs(data))[:, None]
+        for piece, solution in self.pieces_solved:
+            for shift in _shifts(piece, max(exact, default=Fraction(0))):
+                # a piece from rest is at rest when it starts (its velocity too, unless
+                # an impulse starts it)
+                rest = piece.at_rest and (order == 0 or (order == 1 and not piece.impulsive))
+                columns = [i for i, t in enumerate(exact) if (t > shift or (t == shift and not rest))
+                           and not (t == 0 and order < 2)]
+                if not columns:
+                    continue
+                shifted = [exact[i] - shift for i in columns]
+                part, part_bounds = solution.evaluate(shifted, derivative=order,
+                                                      target=target, return_error=True)
+                values[:, columns] += part[:n]
+                bounds[:, columns] += part_bounds[:n]
+        return values, bounds + np.finfo(float).eps * np.abs(values)
+
+    def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
+        """``dps`` digits: the pieces' own digits at the shifted times, summed."""
+        n = self.scene.n
+        values = np.zeros((n, len(times)), dtype=object)
+        bounds = np.zeros((n, len(times)), dtype=object)
+        exact = [Fraction(times.exact(i)) for i in range(len(times))]
+        for piece, solution in self.pieces_solved:
+            for shift in _shifts(piece, max(exact, default=Fraction(0))):
+                columns = [i for i, t in enumerate(exact) if t >= shift]
+                if columns:
+                    part, part_bounds = solution.evaluate([exact[i] - shift for i in columns],
+                                                          derivative=order, dps=dps,
+                                                          return_error=True)
+                    values[:, columns] = values[:, columns] + part[:n]
+                    bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
+        return values, bounds
+
+    def verify(self, *, samples: Any = ("0.37", "1.3", "4.1"),
+               tolerance: float | None = None) -> Verification:
+        """Residual of M x'' + C x' + K x = f(t) at the sample times, relative to the terms'
+        size, and of the initial data."""
+        tolerance = 1e-9 if tolerance is None else float(tolerance)
+        M, C, K, x0, v0 = scene_arrays(self.scene)
+        times = np.array([0.0, *(float(sp.Rational(str(s))) for s in samples)])
+        x, v, a = (self.evaluate(times, derivative=order) for order in range(3))
+        force = np.zeros_like(x)
+        for i, f in enumerate(self.scene.forcing or ()):
+            if f != 0:
+                force[i, 1:] = [float(f.subs(TIME, sp.Rational(str(s)))) for s in samples]
+        residual = np.max(np.abs(M @ a[:, 1:] + C @ v[:, 1:] + K @ x[:, 1:] - force[:, 1:]))
+        size = np.max(np.abs(M) @ np.abs(a) + np.abs(C) @ np.abs(v) + np.abs(K) @ np.abs(x)
+                      + np.abs(force))
+        massive = [i for i in range(self.scene.n) if i not in massless_nodes(self.scene)]
+        start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[massive, 0] - v0[massive]])))
+        data = np.max(np.abs(np.concatenate([x0, v0])))
+        return Verification(float(residual / size) if size else float(residual),
+                            float(start / data) if data else float(start), tolerance)
+
+
+def _shifts(piece: _Piece, last: Fraction) -> list[Fraction]:
+    """The switching times of a piece up to the last time (every period for a periodic one)."""
+    if piece.period is None:
+        return [piece.delay]
+    count = int((last - piece.delay) / piece.period) + 1 if last >= piece.delay else 0
+    if count > limits().exo_max_periods:
+        raise LimitError(f"a periodic force repeats {count:,} times before t = {float(last):g}, "
+                         f"more than Limits.exo_max_periods = {limits().exo_max_periods:,} "
+                         "for the numeric forced route (each period is one more evaluation)")
+    return [piece.delay + k * piece.period for k in range(count)]
