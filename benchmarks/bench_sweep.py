@@ -18,7 +18,12 @@ first spring k and a dashpot c at the wall, x0 = e1) at 20 times on [0, 20]:
 * a loop of ls.solve(scene.subs(set)).evaluate(times) over the first 100 sets
   (extrapolated to 10^4: it would take hours);
 * ls.sweep and the hand-written code on a Dask LocalCluster of 2 worker processes (one
-  thread each), ls.sweep streaming its values to a .npy store written by the workers.
+  thread each), ls.sweep streaming its values to a .npy store written by the workers;
+* ls.sweep on the same cluster with glibc's thresholds left where the nanny fixes them
+  (MALLOC_TRIM_THRESHOLD_=65536, which turns glibc's adaptive mmap threshold off): the
+  package's tasks raise them while they run (sweeps/allocator.py); this row switches that
+  off in the workers to show what it is worth. The Dask rows also report the workers' minor
+  page faults.
 
 Each measurement runs in its own process, which reports its wall time and its peak
 resident memory (ru_maxrss); on the cluster, the client's and each worker's peak.
@@ -39,7 +44,7 @@ import time
 import numpy as np
 
 import laplace_springs as ls
-from laplace_springs.sweeps import sweep
+from laplace_springs.sweeps import allocator, sweep
 
 N_CHAIN = 50
 TIMES_CHAIN = np.linspace(0, 20, 20)
@@ -136,15 +141,25 @@ def handwritten(k: np.ndarray, c: np.ndarray, times: np.ndarray) -> np.ndarray:
     return out
 
 
+def _leave_thresholds() -> None:
+    """In a worker: leave glibc's thresholds as the nanny fixed them during tasks."""
+    allocator._LIBC = None
+
+
+def _faults() -> int:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
 def _measure(kind: str, P: int, folder: str) -> dict:
     start = time.perf_counter()
     extra: dict = {}
     values = chain_values(P)
+    faults = _faults()
     if kind == "sweep":
         result = sweep(chain(), values, TIMES_CHAIN, return_error=True)
         np.save(os.path.join(folder, "sweep.npy"), result.values)
         extra = {"alone": int(result.exact_sets.size), "bound": float(np.max(result.set_error)),
-                 "route": result.route}
+                 "route": result.route, "faults": _faults() - faults}
     elif kind == "handwritten":
         np.save(os.path.join(folder, "handwritten.npy"), handwritten(values["k"], values["c"], TIMES_CHAIN))
     elif kind == "loop":
@@ -160,10 +175,12 @@ def _measure(kind: str, P: int, folder: str) -> dict:
 
         with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                       dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-            client.run(lambda: None)
+            if kind == "dask-sweep-nanny":
+                client.run(_leave_thresholds)
+            before = client.run(_faults)
             start = time.perf_counter()
-            if kind == "dask-sweep":
-                store = os.path.join(folder, "dask.npy")
+            if kind in ("dask-sweep", "dask-sweep-nanny"):
+                store = os.path.join(folder, f"{kind}.npy")
                 result = sweep(chain(), values, TIMES_CHAIN, return_error=True, client=client, out=store)
                 extra = {"alone": int(result.exact_sets.size)}
             else:
@@ -174,6 +191,8 @@ def _measure(kind: str, P: int, folder: str) -> dict:
                 for (s, e), part in zip(chunks, client.gather(futures)):
                     out[s:e] = part
             seconds = time.perf_counter() - start
+            after = client.run(_faults)
+            extra["worker_faults"] = sum(after[w] - before[w] for w in after)
             workers = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
             extra["worker_peak_mb"] = round(max(workers.values()) / 1024, 1)
             return {"seconds": seconds, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
@@ -191,35 +210,41 @@ def _run(kind: str, P: int, folder: str) -> dict:
 def part_two(P: int) -> None:
     folder = tempfile.mkdtemp(prefix="bench_sweep_")
     runs = {kind: _run(kind, P, folder) for kind in ("sweep", "handwritten", "loop", "dask-sweep",
-                                                     "dask-handwritten")}
+                                                     "dask-sweep-nanny", "dask-handwritten")}
     ours = np.load(os.path.join(folder, "sweep.npy"))
     hand = np.load(os.path.join(folder, "handwritten.npy"))
     loop = np.load(os.path.join(folder, "loop.npy"))
-    dask = np.load(os.path.join(folder, "dask.npy"))
+    dask = np.load(os.path.join(folder, "dask-sweep.npy"))
+    nanny = np.load(os.path.join(folder, "dask-sweep-nanny.npy"))
     count = loop.shape[0]
     loop_total = runs["loop"]["seconds"] * P / count
     print(f"Part 2: {P:,} sets x {TIMES_CHAIN.size} times, {N_CHAIN}-mass chain (k, c at the wall); "
           f"route {runs['sweep']['route']}")
-    print(f"  {'':<44}{'time [s]':>10}  {'peak memory [MB]':<26}")
+    print(f"  {'':<44}{'time [s]':>10}  {'peak memory [MB]':<26}{'page faults':>12}")
     rows = [("ls.sweep, one worker (bounds on every value)", runs["sweep"]),
             ("hand-written batched numpy.linalg.eig", runs["handwritten"]),
             (f"loop of ls.solve ({count} sets, x {P // count})", {"seconds": loop_total,
                                                                  "peak_mb": runs["loop"]["peak_mb"]}),
             ("ls.sweep, 2 Dask workers (.npy store)", runs["dask-sweep"]),
+            ("  same, glibc thresholds as the nanny fixes", runs["dask-sweep-nanny"]),
             ("hand-written, 2 Dask workers", runs["dask-handwritten"])]
     for name, run in rows:
         memory = f"{run['peak_mb']:.0f}"
         if "worker_peak_mb" in run:
             memory += f" (workers {run['worker_peak_mb']:.0f})"
-        print(f"  {name:<44}{run['seconds']:>10.1f}  {memory:<26}")
+        faults = run.get("faults", run.get("worker_faults"))
+        print(f"  {name:<44}{run['seconds']:>10.1f}  {memory:<26}{'' if faults is None else f'{faults:,}':>12}")
+    print(f"  ls.sweep speed-up on 2 workers: {runs['sweep']['seconds'] / runs['dask-sweep']['seconds']:.2f} "
+          f"({runs['sweep']['seconds'] / runs['dask-sweep-nanny']['seconds']:.2f} with the nanny's thresholds); "
+          f"hand-written: {runs['handwritten']['seconds'] / runs['dask-handwritten']['seconds']:.2f}")
     print(f"  ratio ls.sweep / hand-written: one worker {runs['sweep']['seconds'] / runs['handwritten']['seconds']:.2f}, "
           f"2 workers {runs['dask-sweep']['seconds'] / runs['dask-handwritten']['seconds']:.2f}; "
           f"loop of ls.solve / ls.sweep: {loop_total / runs['sweep']['seconds']:.0f}")
     print(f"  sets solved alone: {runs['sweep']['alone']}; largest bound {runs['sweep']['bound']:.1e} "
           f"of max(|x|, S0)")
     print(f"  |ls.sweep - hand-written| {np.max(np.abs(ours - hand)):.1e}; |ls.sweep - ls.solve| "
-          f"{np.max(np.abs(ours[:count] - loop)):.1e} (first {count} sets); Dask run identical: "
-          f"{bool(np.array_equal(ours, dask))}")
+          f"{np.max(np.abs(ours[:count] - loop)):.1e} (first {count} sets); Dask runs identical: "
+          f"{bool(np.array_equal(ours, dask) and np.array_equal(ours, nanny))}")
 
 
 if __name__ == "__main__":
