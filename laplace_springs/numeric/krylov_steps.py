@@ -16,9 +16,16 @@ norm, β and β₂ the norms of |D| and |D₂ + D_lo| weighted by √m_r·(γ_{2
 Once a float64 product's rounding, carried to the end of the series, is below
 Limits.krylov_step_error of the scene's energy N(z0) (a test on the terms' computed norms,
 so the switch is a function of the state alone), the remaining terms are plain float64
-products. Each term's rounding f_k enters the series as a perturbation of the v-part, so
-its effect on the step is at most φ_k·N(f_k) in the energy norm (N((HA)^i f) ≤ θ^i N(f),
-φ_k = Σ_{i=k}^{m} θ^{i−k}/i!) and H·ψ_k·N(f_k)/√m_min on x (ψ_k = Σ_{i>k} θ^{i−1−k}/i!).
+products. Each term's rounding f_k enters the series as a perturbation g = (0, f_k) of the
+state's k-th term, which the later terms carry as Σ_{i=k}^{m} r^i Z^{i−k} g/i! (Z = HA, r
+the fraction of the step). That is r^k·φ_k(rZ)g less the series' tail, with φ_k(Z) =
+Σ_j Z^j/(j+k)! = ∫₀¹ e^{(1−s)Z} s^{k−1}/(k−1)! ds: the motion never increases N, so
+N(φ_k(rZ)g) ≤ N(g)/k!, and the tail is at most Σ_{i>m} θ^{i−k}/i! N(g) (N(Zg) ≤ θN(g)).
+The effect on the step is thus at most φ_k·N(f_k) in the energy norm, φ_k = 1/k! +
+θ^{−k}·tail(θ, m), and H·ψ_k·N(f_k)/√m_min on x (whose part is H times the v-part of the
+same sum from i = k + 1: ψ_k = 1/(k + 1)! + θ^{−k−1}·tail(θ, m)), for every r in [0, 1].
+(Summing θ^{i−k}/i! instead, as the triangle inequality alone gives, is about θ + 1 times
+larger over a step: e^θ against (θ + 1)e^θ.)
 
 *The next state* is the series at r = 1, Σ_k W_k U_k with the exact weights W_k (H/(k+1)!
 for x, 1/k! for v), formed with the same split on the terms scaled by 2^(−s_k) ≈ 1/k!
@@ -119,11 +126,10 @@ class Stepper:
             m += 1
         self.m = m
         self.tail = tail(theta, m)
-        # φ_k, ψ_k (module notes)
-        self.phi = np.array([sum(theta ** (i - k) / math.factorial(i) for i in range(k, m + 1))
-                             for k in range(m + 1)]) * (1 + 1e-12)
-        self.psi = np.array([sum(theta ** (i - 1 - k) / math.factorial(i) for i in range(k + 1, m + 1))
-                             for k in range(m + 1)]) * (1 + 1e-12)
+        # φ_k, ψ_k (module notes): 1/k! from the contraction, plus the series' tail
+        rest = [tail(theta, m) / theta**k if theta > 0 else 0.0 for k in range(m + 2)]
+        self.phi = np.array([1 / math.factorial(k) + rest[k] for k in range(m + 1)]) * (1 + 1e-12)
+        self.psi = np.array([1 / math.factorial(k + 1) + rest[k + 1] for k in range(m + 1)]) * (1 + 1e-12)
         self.switch = budget / 16 * data.energy
         self._weights()
         self.hi = np.zeros((m + 2, n))
