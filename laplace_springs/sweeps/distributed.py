@@ -8,6 +8,15 @@ file or a shared store never travel), and a worker lost in the middle costs only
 tasks: the scheduler runs them again on the workers left (tasks are pure functions of
 their arguments, so a chunk computed twice writes the same rows twice and is counted
 once here).
+
+A task runs under the caller's limits (:func:`~laplace_springs.limits.using_limits` is
+per thread: the workers would otherwise use the defaults and give other numbers), and
+with glibc's allocator thresholds raised while it runs
+(:mod:`~laplace_springs.sweeps.allocator`): a Dask nanny starts its workers with
+``MALLOC_TRIM_THRESHOLD_=65536``, under which a chunk's NumPy temporaries cost 14 times
+the page faults and each task ran at about half speed, so 2 workers were no faster than
+one process. Both apply per task, so they hold for any client, workers that join later
+included.
 """
 
 from __future__ import annotations
