@@ -296,24 +296,24 @@ class Stepper:
         """x (order 0) or v (order 1) at b + r·H for each r in [0, 1), shape (len(r), n),
         and a bound per time on the float64 rounding of the sums (module notes)."""
         m, H = self.m, self.data.H
-        weights = np.empty((m + 1, r.size))
-        weights[0] = 1.0
-        for k in range(1, m + 1):
-            weights[k] = weights[k - 1] * (r / k)
+        steps = np.empty((m + 1, r.size))
+        steps[0] = 1.0
+        steps[1:] = r[None, :] / np.arange(1, m + 1, dtype=float)[:, None]
+        weights = np.cumprod(steps, axis=0)     # w_k = w_{k−1}·(r/k), in that order
         if order == 0:            # x̂ + Σ_{k≥1} (r^k H/k!)·U_{k−1}: rows k of hi
             weights[1:] *= H
-            rows, first = range(m, 0, -1), 0
+            rows, first = np.arange(m, 0, -1), 0
         else:                     # Σ_{k≥0} (r^k/k!)·U_k: rows k + 1
-            rows, first = range(m, -1, -1), 1
+            rows, first = np.arange(m, -1, -1), 1
         hi = terms.hi
-        top = rows[0]
+        top = int(rows[0])
         acc = weights[top][:, None] * hi[top + first][None, :]
         product = np.empty_like(acc)
-        bound = (3 * top + 4) * U * weights[top] * terms.sup[top + first]
         for k in rows[1:]:
             np.multiply(weights[k][:, None], hi[k + first][None, :], out=product)
             np.add(acc, product, out=acc)
-            bound = bound + (3 * k + 4) * U * weights[k] * terms.sup[k + first]
+        # Σ_k (3k + 4)u·w_k·sup_k (non-negative terms: their float sum is within the margin)
+        bound = ((3 * rows + 4) * U * terms.sup[rows + first]) @ weights[rows]
         if order == 0:
             np.add(acc, hi[0][None, :], out=acc)
             bound = bound + 3 * U * terms.sup[0]
