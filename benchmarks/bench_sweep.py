@@ -25,8 +25,11 @@ first spring k and a dashpot c at the wall, x0 = e1) at 20 times on [0, 20]:
   off in the workers to show what it is worth. The Dask rows also report the workers' minor
   page faults.
 
-Each measurement runs in its own process, which reports its wall time and its peak
-resident memory (ru_maxrss); on the cluster, the client's and each worker's peak.
+Each measurement runs in its own process (the 1-minute load average at its start is
+printed: the machine may be shared), which reports its wall time, its CPU time (on the
+cluster, the workers': what a task costs there, whatever else runs), and its peak
+resident memory (VmHWM: ru_maxrss would carry the parent's peak across fork and exec);
+on the cluster, the client's and each worker's peak.
 
     python benchmarks/bench_sweep.py [sets of part 1] [sets of part 2]
 """
@@ -146,15 +149,31 @@ def _leave_thresholds() -> None:
     allocator._LIBC = None
 
 
+def _peak_mb() -> float:
+    """This process's peak resident memory since it started (VmHWM, reset by exec)."""
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def _faults() -> int:
     return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
+def _cpu() -> float:
+    return time.process_time()
 
 
 def _measure(kind: str, P: int, folder: str) -> dict:
     start = time.perf_counter()
     extra: dict = {}
     values = chain_values(P)
-    faults = _faults()
+    faults, cpu = _faults(), _cpu()
     if kind == "sweep":
         result = sweep(chain(), values, TIMES_CHAIN, return_error=True)
         np.save(os.path.join(folder, "sweep.npy"), result.values)
@@ -177,7 +196,7 @@ def _measure(kind: str, P: int, folder: str) -> dict:
                                       dashboard_address=None) as cluster, distributed.Client(cluster) as client:
             if kind == "dask-sweep-nanny":
                 client.run(_leave_thresholds)
-            before = client.run(_faults)
+            before, cpu = client.run(_faults), client.run(_cpu)
             start = time.perf_counter()
             if kind in ("dask-sweep", "dask-sweep-nanny"):
                 store = os.path.join(folder, f"{kind}.npy")
@@ -191,20 +210,22 @@ def _measure(kind: str, P: int, folder: str) -> dict:
                 for (s, e), part in zip(chunks, client.gather(futures)):
                     out[s:e] = part
             seconds = time.perf_counter() - start
-            after = client.run(_faults)
+            after, used = client.run(_faults), client.run(_cpu)
             extra["worker_faults"] = sum(after[w] - before[w] for w in after)
-            workers = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
-            extra["worker_peak_mb"] = round(max(workers.values()) / 1024, 1)
-            return {"seconds": seconds, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+            extra["cpu"] = sum(used[w] - cpu[w] for w in used)  # the workers' (the client's is small)
+            workers = client.run(_peak_mb)
+            extra["worker_peak_mb"] = round(max(workers.values()), 1)
+            return {"seconds": seconds, "peak_mb": _peak_mb(),
                     **extra}
-    return {"seconds": time.perf_counter() - start,
-            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, **extra}
+    return {"seconds": time.perf_counter() - start, "cpu": _cpu() - cpu,
+            "peak_mb": _peak_mb(), **extra}
 
 
 def _run(kind: str, P: int, folder: str) -> dict:
+    load = os.getloadavg()[0]
     output = subprocess.run([sys.executable, __file__, "--measure", kind, str(P), folder],
                             capture_output=True, text=True, check=True).stdout
-    return json.loads(output.strip().splitlines()[-1])
+    return {**json.loads(output.strip().splitlines()[-1]), "load": load}
 
 
 def part_two(P: int) -> None:
@@ -220,11 +241,12 @@ def part_two(P: int) -> None:
     loop_total = runs["loop"]["seconds"] * P / count
     print(f"Part 2: {P:,} sets x {TIMES_CHAIN.size} times, {N_CHAIN}-mass chain (k, c at the wall); "
           f"route {runs['sweep']['route']}")
-    print(f"  {'':<44}{'time [s]':>10}  {'peak memory [MB]':<26}{'page faults':>12}")
+    print(f"  {'':<44}{'time [s]':>10}{'cpu [s]':>9}  {'peak memory [MB]':<26}{'page faults':>12}{'load':>6}")
     rows = [("ls.sweep, one worker (bounds on every value)", runs["sweep"]),
             ("hand-written batched numpy.linalg.eig", runs["handwritten"]),
             (f"loop of ls.solve ({count} sets, x {P // count})", {"seconds": loop_total,
-                                                                 "peak_mb": runs["loop"]["peak_mb"]}),
+                                                                 "peak_mb": runs["loop"]["peak_mb"],
+                                                                 "load": runs["loop"]["load"]}),
             ("ls.sweep, 2 Dask workers (.npy store)", runs["dask-sweep"]),
             ("  same, glibc thresholds as the nanny fixes", runs["dask-sweep-nanny"]),
             ("hand-written, 2 Dask workers", runs["dask-handwritten"])]
@@ -233,7 +255,9 @@ def part_two(P: int) -> None:
         if "worker_peak_mb" in run:
             memory += f" (workers {run['worker_peak_mb']:.0f})"
         faults = run.get("faults", run.get("worker_faults"))
-        print(f"  {name:<44}{run['seconds']:>10.1f}  {memory:<26}{'' if faults is None else f'{faults:,}':>12}")
+        cpu = f"{run['cpu']:.1f}" if "cpu" in run else ""
+        print(f"  {name:<44}{run['seconds']:>10.1f}{cpu:>9}  {memory:<26}{'' if faults is None else f'{faults:,}':>12}"
+              f"{run['load']:>6.2f}")
     print(f"  ls.sweep speed-up on 2 workers: {runs['sweep']['seconds'] / runs['dask-sweep']['seconds']:.2f} "
           f"({runs['sweep']['seconds'] / runs['dask-sweep-nanny']['seconds']:.2f} with the nanny's thresholds); "
           f"hand-written: {runs['handwritten']['seconds'] / runs['dask-handwritten']['seconds']:.2f}")
