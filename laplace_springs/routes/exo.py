@@ -41,6 +41,7 @@ from ..numeric.first_order import massless_nodes, scene_arrays
 from ..numeric.times import Times
 from ..planning.execute import Evaluator
 from ..solution import Solution, Verification
+from .exo_split import impulse_jump, split_piece
 
 __all__ = ["ExoSolution", "solve_exo", "exo_refusal"]
 
@@ -65,7 +66,7 @@ class _Piece:
 
     delay: Fraction
     period: Fraction | None
-    scene: Scene
+    scene: Scene | None
     impulsive: bool = False   # an impulse starts it (its velocity jumps at the switch)
     at_rest: bool = True      # it starts from rest (every piece but the initial data's)
 
@@ -224,13 +225,28 @@ def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | 
         start = delay == 0 and period is None
         if not inputs and not start:
             continue
-        pieces.append(_Piece(delay, period, _augmented(scene, inputs, start, scale),
-                             any(part.impulse != 0 for part in inputs), not start))
-    solved = [(piece, solver(piece.scene, target=target)) for piece in pieces]
+        pieces.append((_Piece(delay, period, None, any(part.impulse != 0 for part in inputs),
+                              not start), inputs))
+    solved = [(piece, _solve_piece(scene, piece, inputs, scale, solver, target))
+              for piece, inputs in pieces]
     method = solved[0][1].method
     text = reason or (f"the input's exosystems joined to the scene, solved by the {method} engine "
                       f"({len(solved)} piece{'s' if len(solved) != 1 else ''})")
     return ExoSolution(scene, solved, reason=text, target=target)
+
+
+def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input], scale: sp.Expr,
+                 solver: Callable[..., Solution], target: float | None) -> Any:
+    """The split into a particular and a free motion where it is exact
+    (:mod:`laplace_springs.routes.exo_split`), else the augmented scene solved."""
+    start = not piece.at_rest
+    split = split_piece(scene, [(p.row, p.numerator, p.denominator) for p in inputs
+                                if p.denominator],
+                        [(p.row, p.impulse) for p in inputs if p.impulse != 0], start,
+                        solver, target)
+    if split is not None:
+        return split
+    return solver(_augmented(scene, inputs, start, scale), target=target)
 
 
 class ExoSolution(Solution):
@@ -278,6 +294,16 @@ class ExoSolution(Solution):
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         return self._sum(times, order, self.target)
 
+    def _initial(self, order: int) -> np.ndarray:
+        """x(0), or x'(0+) = v0 plus M⁻¹ times the impulses at t = 0 (exact, rounded once)."""
+        data = [sp.Rational(v) for v in (self.scene.x0 if order == 0 else self.scene.v0)]
+        impulses = [(p.row, p.impulse) for p in _inputs(self.scene)[(Fraction(0), None)]
+                    if p.impulse != 0]
+        if order == 1 and impulses:
+            jump = impulse_jump(self.scene, impulses)
+            data = [v + j for v, j in zip(data, jump)]
+        return np.array([float(v) for v in data])
+
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         return self._sum(times, order, target)  # each piece escalates through its own plan
 
@@ -288,8 +314,7 @@ class ExoSolution(Solution):
         exact = [Fraction(times.exact(i)) for i in range(len(times))] if len(times) else []
         start = [i for i, t in enumerate(exact) if t == 0]
         if start and order < 2:  # x(0) = x0 and x'(0+) = v0 (+ impulses at 0): exactly
-            first = self.pieces_solved[0][0].scene
-            data = np.array([float(v) for v in (first.x0 if order == 0 else first.v0)[:n]])
+            data = self._initial(order)
             values[:, start] = data[:, None]
             bounds[:, start] = (np.finfo(float).eps / 2 * np.abs(data))[:, None]
         for piece, solution in self.pieces_solved:
