@@ -172,7 +172,10 @@ def _force_size(scene: Scene) -> float:
     for f in scene.forcing or ():
         if f != 0:
             for sample in _FORCE_SAMPLES:
-                force = max(force, abs(complex(sp.N(f.subs(TIME, sp.Rational(sample))))))
+                try:
+                    force = max(force, abs(complex(sp.N(f.subs(TIME, sp.Rational(sample))))))
+                except TypeError:  # an impulse's DiracDelta(0) has no value
+                    continue
     return force
 
 
@@ -366,6 +369,7 @@ class ExoSolution(Solution):
         size = np.max(np.abs(M) @ np.abs(a) + np.abs(C) @ np.abs(v) + np.abs(K) @ np.abs(x)
                       + np.abs(force))
         massive = [i for i in range(self.scene.n) if i not in massless_nodes(self.scene)]
+        v0 = self._initial(1)  # x'(0+): v0 and the impulses at t = 0
         start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[massive, 0] - v0[massive]])))
         data = np.max(np.abs(np.concatenate([x0, v0])))
         return Verification(float(residual / size) if size else float(residual),

@@ -47,6 +47,8 @@ def test_a_cosine_from_rest_matches_its_closed_form(small):
     "sawtooth(3, 3/2)",
     "3*DiracDelta(t - 1) + exp(-t)*sin(3*t)*Heaviside(t - 2) + t",
     "pulse_train(2, 1, 1/4) + cos(5*t)",
+    "2*DiracDelta(t) + Heaviside(t - 1)*exp(t/5)",
+    "cos(sqrt(2)*t) + t*sin(t)",   # irrational and degree-4 inputs: the augmented scene
 ])
 def test_forced_pairs_match_the_exact_route(small, forcing):
     scene = ls.Scene.from_matrices(M=[[1, 0], [0, "1/2"]], C=[["1/5", 0], [0, "1/10"]],
