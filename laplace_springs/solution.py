@@ -180,7 +180,8 @@ class Solution(ABC):
 
     def evaluate(self, times: Any, *, dps: int | None = None, return_error: bool = False,
                  target: float | None = None, derivative: int = 0,
-                 return_report: bool = False, units: bool | str = False) -> Any:
+                 return_report: bool = False, units: bool | str = False,
+                 progress: bool | None = None) -> Any:
         """x(t) (or a derivative) at the given times.
 
         Parameters
@@ -208,6 +209,9 @@ class Solution(ABC):
             For a scene written with units: True returns values and bounds as pint
             Quantities in metres (m/s, m/s² for derivatives), a unit such as ``"cm"``
             converts to it. Times may carry units whatever this says (``"0.5 s"``).
+        progress : bool, optional
+            Show a progress bar on stderr (default: when the plan expects the evaluation to
+            take more than ``Limits.progress_after_seconds``).
 
         Returns
         -------
@@ -250,7 +254,7 @@ class Solution(ABC):
             report = EvaluationReport(plan, (plan.primary or "",) * len(T), np.zeros(len(T)))
         else:
             values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order, goal,
-                                             self._floor(order))
+                                             self._floor(order), progress=progress)
             _check_float_result(values, bounds, T, report, goal)
             bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
         if units:  # Quantities in the scene's units or the unit asked for

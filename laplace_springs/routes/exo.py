@@ -330,8 +330,8 @@ class ExoSolution(Solution):
                 if not columns:
                     continue
                 shifted = [exact[i] - shift for i in columns]
-                part, part_bounds = solution.evaluate(shifted, derivative=order,
-                                                      target=target, return_error=True)
+                part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
+                                                      return_error=True, progress=False)
                 values[:, columns] += part[:n]
                 bounds[:, columns] += part_bounds[:n]
         return values, bounds + np.finfo(float).eps * np.abs(values)

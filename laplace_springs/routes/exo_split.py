@@ -73,20 +73,20 @@ class SplitPiece:
         return float(self.free._spectral_radius)
 
     def evaluate(self, times: Sequence[Fraction], *, derivative: int, target: float | None = None,
-                 return_error: bool = True, dps: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 return_error: bool = True, dps: int | None = None,
+                 progress: bool | None = False) -> tuple[np.ndarray, np.ndarray]:
         """Values and bounds of x^(derivative) at the (exact) times (mpmath numbers with
         ``dps``)."""
         if dps is not None:
             return self._digits(times, derivative, dps)
-        finer = None if target is None else target / 10   # see split_piece
-        values, bounds = self.free.evaluate(list(times), derivative=derivative, target=finer,
-                                            return_error=True)
+        values, bounds = self.free.evaluate(list(times), derivative=derivative, target=target,
+                                            return_error=True, progress=False)
         rounding = np.zeros_like(values)
         for exo, weights in self.blocks:
             w, w_bounds = exo.evaluate(list(times), derivative=0, target=target,
-                                       return_error=True)
+                                       return_error=True, progress=False)
             dw, dw_bounds = exo.evaluate(list(times), derivative=1, target=target,
-                                         return_error=True)
+                                         return_error=True, progress=False)
             state = np.vstack([w[:1], dw[:1]])[:weights[derivative].ncols()]
             state_bounds = np.vstack([w_bounds[:1], dw_bounds[:1]])[:state.shape[0]]
             P = _float(weights[derivative])
@@ -157,8 +157,9 @@ def split_piece(scene: Scene, blocks: list[tuple[int, tuple[Any, ...], tuple[Any
         solved.append((_exo_scene(a), weights))
     free = Scene.from_matrices(M=scene.M, C=scene.C, K=scene.K, x0=[_rational(v) for v in x0],
                                v0=[_rational(v) for v in v0], title=scene.title)
-    # the free part cancels the particular one where the motion starts from rest: it is
-    # asked for a tenth of the target, so that the sum can meet it
+    # the free part cancels the particular one where the motion starts from rest: its
+    # engine is chosen for a tenth of the target (times whose bound misses the target
+    # itself escalate)
     finer = (target if target is not None else limits().target) / 10
     return SplitPiece(solver(free, target=finer),
                       [(solver(exo, target=target), weights) for exo, weights in solved])

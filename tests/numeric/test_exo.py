@@ -106,3 +106,26 @@ def test_the_exo_route_refuses_free_and_sampled_scenes_by_name(small):
     free = ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0])
     with pytest.raises(ValueError, match="exo"):
         ls.solve(free, method="exo")
+
+
+def test_a_square_wave_on_a_chain_matches_the_same_force_given_as_samples():
+    # the sampled route (double-double segment maps, exact for a zero-order hold) is an
+    # independent route: a square wave is exactly the held samples 1, 0, 1, 0, ...
+    n = 12
+    masses = {f"m{i}": 1 for i in range(n)}
+    springs = {"k0": ("wall", "m0", 2), **{f"k{i}": (f"m{i-1}", f"m{i}", 1) for i in range(1, n)}}
+    dashpots = {"c0": ("wall", "m0", "1/10"), "c1": (f"m{n-1}", "wall", "1/5")}
+
+    def scene(force):
+        return ls.Scene.from_components(masses=masses, springs=springs, dashpots=dashpots,
+                                        x0=[1] + [0] * (n - 1), v0=[0] * n,
+                                        forcing=[force] + ["0"] * (n - 1))
+    times = np.array([0.5, 3.25, 7.0, 11.5, 19.75])
+    ours = ls.solve(scene("square_wave(1, 2)"))
+    assert ours.method.endswith("+exo")
+    values, bounds = ours.evaluate(times, return_error=True)
+    steps = np.arange(0, 21)
+    samples = ls.solve(scene(ls.sampled(steps, (steps % 2 == 0).astype(float), kind="zoh")))
+    reference, reference_bounds = samples.evaluate(times, return_error=True)
+    assert np.all(np.abs(values - reference) <= bounds + reference_bounds)
+    assert bounds.max() < 1e-12
