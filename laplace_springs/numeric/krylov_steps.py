@@ -313,7 +313,11 @@ class Stepper:
             np.multiply(weights[k][:, None], hi[k + first][None, :], out=product)
             np.add(acc, product, out=acc)
         # Σ_k (3k + 4)u·w_k·sup_k (non-negative terms: their float sum is within the margin)
-        bound = ((3 * rows + 4) * U * terms.sup[rows + first]) @ weights[rows]
+        # (elementwise, then summed down the rows in order by cumsum: each time's bound is
+        # its own column's sequential sum whatever the other times of the call, where a BLAS
+        # product or a pairwise sum of a single column would not be)
+        bound = np.cumsum(((3 * rows + 4) * U * terms.sup[rows + first])[:, None] * weights[rows],
+                          axis=0)[-1]
         if order == 0:
             np.add(acc, hi[0][None, :], out=acc)
             bound = bound + 3 * U * terms.sup[0]
