@@ -29,6 +29,7 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Any
 
+import mpmath
 import numpy as np
 import sympy as sp
 
@@ -349,8 +350,9 @@ class ExoSolution(Solution):
                     part, part_bounds = solution.evaluate([exact[i] - shift for i in columns],
                                                           derivative=order, dps=dps,
                                                           return_error=True)
-                    values[:, columns] = values[:, columns] + part[:n]
-                    bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
+                    with mpmath.workdps(dps + 10):  # the sums with guard digits
+                        values[:, columns] = values[:, columns] + part[:n]
+                        bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
         return values, bounds
 
     def verify(self, *, samples: Any = ("0.37", "1.3", "4.1"),

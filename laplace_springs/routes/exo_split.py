@@ -107,6 +107,12 @@ class SplitPiece:
                 dps: int) -> tuple[np.ndarray, np.ndarray]:
         values, bounds = self.free.evaluate(list(times), derivative=derivative, dps=dps,
                                             return_error=True)
+        with mpmath.workdps(dps + 10):  # the sums at the digits asked, with guard digits
+            self._add_digits(values, bounds, times, derivative, dps)
+        return values, bounds
+
+    def _add_digits(self, values: np.ndarray, bounds: np.ndarray, times: Sequence[Fraction],
+                    derivative: int, dps: int) -> None:
         for exo, weights in self.blocks:
             w, w_bounds = exo.evaluate(list(times), derivative=0, dps=dps, return_error=True)
             dw, dw_bounds = exo.evaluate(list(times), derivative=1, dps=dps, return_error=True)
@@ -119,7 +125,6 @@ class SplitPiece:
                         weight = mpmath.mpf(int(P[i, k].p)) / int(P[i, k].q)
                         values[i, col] += weight * rows[k][col]
                         bounds[i, col] += abs(weight) * errors[k][col]
-        return values, bounds
 
 
 def split_piece(scene: Scene, blocks: list[tuple[int, tuple[Any, ...], tuple[Any, ...]]],

@@ -129,3 +129,16 @@ def test_a_square_wave_on_a_chain_matches_the_same_force_given_as_samples():
     reference, reference_bounds = samples.evaluate(times, return_error=True)
     assert np.all(np.abs(values - reference) <= bounds + reference_bounds)
     assert bounds.max() < 1e-12
+
+
+def test_digits_of_a_forced_pair_match_the_exact_route_at_30_digits(small):
+    scene = ls.Scene.from_matrices(M=[[1, 0], [0, "1/2"]], C=[["1/5", 0], [0, "1/10"]],
+                                   K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, "1/2"],
+                                   forcing=["cos(3*t) + square_wave(1, 2)", "0"])
+    values, bounds = ls.solve(scene, method="exo").evaluate(["1.5", "3.7"], dps=30,
+                                                            return_error=True)
+    reference = ls.solve(scene, method="exact").evaluate(["1.5", "3.7"], dps=40)
+    for i in range(2):
+        for j in range(2):
+            assert abs(values[i, j] - reference[i, j]) <= bounds[i, j]
+            assert bounds[i, j] < 1e-28
