@@ -32,6 +32,7 @@ resident memory (VmHWM: ru_maxrss would carry the parent's peak across fork and 
 on the cluster, the client's and each worker's peak.
 
     python benchmarks/bench_sweep.py [sets of part 1] [sets of part 2]
+    python benchmarks/bench_sweep.py --scale 400 3   # the 2-worker speed-up, in quiet gaps
 """
 
 from __future__ import annotations
@@ -271,9 +272,64 @@ def part_two(P: int) -> None:
           f"{bool(np.array_equal(ours, dask) and np.array_equal(ours, nanny))}")
 
 
+# ----------------------------------------------------------------------------- scale-out
+
+
+def _others_busy(skip: set[int]) -> bool:
+    """Whether a process not in ``skip`` (this one, the workers) uses more than 30 % CPU."""
+    rows = subprocess.run(["ps", "-eo", "pcpu=,pid="], check=True, capture_output=True, text=True).stdout.split()
+    return any(float(cpu) > 30 and int(pid) not in skip for cpu, pid in zip(rows[::2], rows[1::2]))
+
+
+def _idle() -> tuple[int, int]:
+    with open("/proc/stat") as stat:
+        jiffies = [int(v) for v in stat.readline().split()[1:]]
+    return sum(jiffies), jiffies[3] + jiffies[4]
+
+
+def scale_out(P: int, rounds: int) -> None:
+    """ls.sweep and the hand-written code on one process and on 2 Dask workers (one
+    cluster started once), interleaved, each round only while no other process is busy;
+    prints the idle share of the cores during the Dask sweep (0: both cores worked)."""
+    import distributed
+
+    scene, values = chain(), chain_values(P)
+    chunks = [(s, min(s + 100, P)) for s in range(0, P, 100)]
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        sweep(scene, {k: v[:64] for k, v in values.items()}, TIMES_CHAIN, client=client)  # warm
+        skip = {os.getpid(), *client.run(os.getpid).values()}
+        done = 0
+        while done < rounds:
+            time.sleep(3)
+            if _others_busy(skip) or os.getloadavg()[0] > 1.3:
+                continue
+            load = os.getloadavg()[0]
+            start = time.perf_counter()
+            local = sweep(scene, values, TIMES_CHAIN)
+            t_local = time.perf_counter() - start
+            before, start = _idle(), time.perf_counter()
+            remote = sweep(scene, values, TIMES_CHAIN, client=client)
+            t_dask, after = time.perf_counter() - start, _idle()
+            idle = 2 * (after[1] - before[1]) / max(after[0] - before[0], 1)
+            start = time.perf_counter()
+            handwritten(values["k"], values["c"], TIMES_CHAIN)
+            t_hand = time.perf_counter() - start
+            start = time.perf_counter()
+            client.gather(client.map(lambda b: handwritten(values["k"][b[0]:b[1]], values["c"][b[0]:b[1]],
+                                                           TIMES_CHAIN), chunks))
+            t_hdask = time.perf_counter() - start
+            print(f"load {load:.2f}: ls.sweep {t_local:.2f} s, 2 workers {t_dask:.2f} s ({t_local / t_dask:.2f}x, "
+                  f"idle cores {idle:.2f}); hand-written {t_hand:.2f} s, 2 workers {t_hdask:.2f} s "
+                  f"({t_hand / t_hdask:.2f}x); identical {bool(np.array_equal(local, remote))}", flush=True)
+            done += 1
+
+
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--measure":
         print(json.dumps(_measure(sys.argv[2], int(sys.argv[3]), sys.argv[4])))
+    elif len(sys.argv) > 1 and sys.argv[1] == "--scale":
+        scale_out(int(sys.argv[2]), int(sys.argv[3]))
     else:
         part_one(int(sys.argv[1]) if len(sys.argv) > 1 else 100_000)
         part_two(int(sys.argv[2]) if len(sys.argv) > 2 else 10_000)
