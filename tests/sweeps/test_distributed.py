@@ -5,14 +5,15 @@ chunk, and a worker killed in the middle of the run costs nothing but time.
 "The same numbers" needs the same code: a worker imports the package when it starts, this
 process did at collection, and a file of the package edited in between (a shared working
 tree during a long suite: once, sweeps/kernels.py changed set 2098 of the two-mass data
-below by 1.6e-15) makes the two differ. Each comparison first checks that no file of the
-package changed since this process started, and skips naming the files if one did.
+below by 1.6e-15) makes the two differ. Each comparison first checks that no module of the
+package this process loaded changed on disk since it started, and skips naming them if one did.
 """
 
 from __future__ import annotations
 
 import os
 import signal
+import sys
 import time
 from pathlib import Path
 
@@ -42,16 +43,18 @@ def _started() -> float:
 
 
 def same_code() -> None:
-    """Skip unless the workers run the package's code as this process loaded it: no file of
-    the package changed since this process started (a worker, started later, imports the
-    files as they are; a code digest cannot tell, since pytest rewrites the asserts of the
-    modules it collects for doctests)."""
-    package = Path(ls.__file__).parent
+    """Skip unless the workers run the package's code as this process loaded it: no module of
+    the package this process has loaded changed on disk since it started (a worker, started
+    later, imports the files as they are; a code digest cannot tell, since pytest rewrites
+    the asserts of the modules it collects for doctests)."""
     started = _started()
-    edited = sorted(str(path.relative_to(package.parent)) for path in package.rglob("*.py")
-                    if path.stat().st_mtime > started)
+    files = {Path(module.__file__) for name, module in list(sys.modules.items())
+             if name.split(".")[0] == "laplace_springs" and getattr(module, "__file__", None)}
+    root = Path(ls.__file__).parent.parent
+    edited = sorted(str(path.relative_to(root)) for path in files
+                    if path.exists() and path.stat().st_mtime > started)
     if edited:
-        pytest.skip(f"files of the package edited after this process started (the workers would "
+        pytest.skip(f"modules of the package edited after this process loaded them (the workers would "
                     f"run other code): {', '.join(edited)}")
 
 
