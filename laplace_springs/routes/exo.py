@@ -216,7 +216,7 @@ def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | 
     >>> scene = ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[0], v0=[0], forcing=["cos(t)"])
     >>> sol = solve_exo(scene, ls.solve)
     >>> value = float(sol.evaluate([2.0])[0, 0])
-    >>> abs(value - (np.cos(2.0) - np.cos(4.0)) / 3) < 1e-14
+    >>> bool(abs(value - (np.cos(2.0) - np.cos(4.0)) / 3) < 1e-14)
     True
     """
     why = exo_refusal(scene)
