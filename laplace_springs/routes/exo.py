@@ -10,7 +10,12 @@ state w joins the scene as q massless nodes held by unit dashpots (rows C = I, K
 that push on coordinate i through K[i, node] = −c: an unforced scene whose motion is the
 forced one, served by the numeric engines of the planner with their own bounds.
 
-One augmented scene is built per switching time τ (and per periodic part): the one of
+Where the split of :mod:`laplace_springs.routes.exo_split` applies (rational entries,
+blocks of degree ≤ 2, no resonance) a piece is instead a particular motion Πw plus a free
+motion for the free-motion engines, which is faster and better conditioned; the augmented
+scene serves the rest.
+
+One piece is built per switching time τ (and per periodic part): the one of
 τ = 0 carries the initial data, the others start from rest and are evaluated at t − τ
 for t ≥ τ (periodic parts at t − τ − kT for every period k with τ + kT ≤ t), and the
 values and bounds of the pieces are summed. Times are shifted exactly (rational τ and
@@ -42,7 +47,7 @@ from ..numeric.first_order import massless_nodes, scene_arrays
 from ..numeric.times import Times
 from ..planning.execute import Evaluator
 from ..solution import Solution, Verification
-from .exo_split import impulse_jump, split_piece
+from .exo_split import SplitPiece, impulse_jump, split_piece
 
 __all__ = ["ExoSolution", "solve_exo", "exo_refusal"]
 
@@ -234,8 +239,11 @@ def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | 
     solved = [(piece, _solve_piece(scene, piece, inputs, scale, solver, target))
               for piece, inputs in pieces]
     method = solved[0][1].method
-    text = reason or (f"the input's exosystems joined to the scene, solved by the {method} engine "
-                      f"({len(solved)} piece{'s' if len(solved) != 1 else ''})")
+    split = sum(isinstance(found, SplitPiece) for _, found in solved)
+    text = reason or (f"the inputs' own dynamics, {len(solved)} piece"
+                      f"{'s' if len(solved) != 1 else ''} ({split} split into a particular and a "
+                      f"free motion, {len(solved) - split} joined to the scene); the first by "
+                      f"the {method} engine")
     return ExoSolution(scene, solved, reason=text, target=target)
 
 
@@ -254,8 +262,8 @@ def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input], scale: sp.Ex
 
 
 class ExoSolution(Solution):
-    """Motion of a forced scene as the sum of augmented unforced scenes (see the module
-    notes). ``method`` is the first piece's engine + ``"+exo"``; ``x`` has no closed form
+    """Motion of a forced scene as the sum of its pieces (see the module notes): each a
+    particular plus a free motion, or an augmented unforced scene. ``method`` is the first piece's engine + ``"+exo"``; ``x`` has no closed form
     here (use ``method='exact'`` on scenes small enough)."""
 
     _planned = False
