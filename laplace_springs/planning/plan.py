@@ -134,7 +134,7 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
         return found[1]
     made = _plan(facts, request, method, key[3], names)
     if len(_MEMO) >= _MEMO_SIZE:
-        _MEMO.pop(next(iter(_MEMO)))
+        _MEMO.clear()  # one atomic step (sweeps plan from several threads)
     _MEMO[key] = (current, made)
     return made
 
