@@ -115,7 +115,8 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
     try:
         for name in plan.chain:
             horizon = plan.horizons.get(name, np.inf)
-            if state is None and plan.request.t_max <= horizon and count * n <= _chunk_values():
+            if state is None and count > 0 and plan.request.t_max <= horizon \
+                    and count * n <= _chunk_values():
                 evaluator = build(name)  # the first engine takes every time in one call
                 if isinstance(evaluator, Refusal):
                     refusals.append(evaluator)

@@ -28,7 +28,7 @@ sample times, |f|·max|M⁻¹|/ρ², as for sampled forces.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
@@ -43,7 +43,7 @@ from ..model.errors import LimitError, SceneError
 from ..model.forcing import input_transform
 from ..model.scene import Scene
 from ..model.symbols import TIME
-from ..numeric.first_order import massless_nodes, scene_arrays
+from ..numeric.first_order import massless_nodes, scene_arrays, scene_entries
 from ..numeric.times import Times
 from ..planning.execute import Evaluator
 from ..solution import Solution, Verification
@@ -68,11 +68,10 @@ class _Input:
 
 @dataclass(frozen=True)
 class _Piece:
-    """An augmented scene switched on at ``delay`` (repeated every ``period`` if given)."""
+    """A piece switched on at ``delay`` (repeated every ``period`` if given)."""
 
     delay: Fraction
     period: Fraction | None
-    scene: Scene | None
     impulsive: bool = False   # an impulse starts it (its velocity jumps at the switch)
     at_rest: bool = True      # it starts from rest (every piece but the initial data's)
 
@@ -90,8 +89,7 @@ def _rational_part(R: sp.Expr, row: int, entry: str) -> _Input:
     coefficients = list(reversed(remainder.all_coeffs())) if not remainder.is_zero else []
     coefficients += [sp.Integer(0)] * (q - len(coefficients))
     low = list(reversed(Q.all_coeffs()))[:q]
-    return _Input(row, sp.nsimplify(quotient.as_expr()) if quotient.degree() == 0 else sp.Integer(0),
-                  tuple(coefficients), tuple(low))
+    return _Input(row, quotient.as_expr(), tuple(coefficients), tuple(low))
 
 
 def _exact_fraction(value: sp.Expr, entry: str) -> Fraction:
@@ -135,15 +133,14 @@ def _augmented(scene: Scene, inputs: list[_Input], start: bool, scale: sp.Expr) 
     C: dict[tuple[int, int], Any] = {}
     K: dict[tuple[int, int], Any] = {}
     for name, target in (("M", M), ("C", C), ("K", K)):
-        for (i, j), value in getattr(scene, name).todok().items():
-            target[i, j] = value
+        target.update(scene_entries(scene, name))
     x0 = [scene.x0[i] if start else 0 for i in range(n)] + [0] * (size - n)
     v0 = [scene.v0[i] if start else 0 for i in range(n)] + [0] * (size - n)
-    massless = set(massless_nodes(scene))
+    impulses = [(part.row, part.impulse) for part in inputs if part.impulse != 0]
+    if impulses:
+        v0[:n] = [v + j for v, j in zip(v0[:n], _impulse_jump(scene, impulses))]
     node = n
     for part in inputs:
-        if part.impulse != 0:
-            _add_impulse(scene, part, v0, massless)
         q = len(part.denominator)
         for k in range(q):
             C[node + k, node + k] = sp.Integer(1)
@@ -161,15 +158,14 @@ def _augmented(scene: Scene, inputs: list[_Input], start: bool, scale: sp.Expr) 
                                title=scene.title)
 
 
-def _add_impulse(scene: Scene, part: _Input, v0: list[Any], massless: set[int]) -> None:
-    """An impulse d on coordinate i: the velocity jumps by d·M⁻¹e_i."""
-    if part.row in massless:
-        raise SceneError(f"forcing[{part.row}]: an impulse on a massless node is not supported "
-                         "by the numeric forced route")
-    column = scene.M.LUsolve(sp.Matrix([part.impulse if i == part.row else 0
-                                        for i in range(scene.n)]))
-    for i in range(scene.n):
-        v0[i] = v0[i] + column[i]
+def _impulse_jump(scene: Scene, impulses: list[tuple[int, Any]]) -> list[Any]:
+    """The velocity jump M⁻¹·(impulses); a SceneError for an impulse on a massless node."""
+    massless = set(massless_nodes(scene))
+    for row, _ in impulses:
+        if row in massless:
+            raise SceneError(f"forcing[{row}]: an impulse on a massless node is not supported "
+                             "by the numeric forced route")
+    return impulse_jump(scene, impulses)
 
 
 def _force_size(scene: Scene) -> float:
@@ -188,7 +184,7 @@ def _force_size(scene: Scene) -> float:
 def _state_scale(scene: Scene) -> sp.Expr:
     """A power of two near |f|/k, the static displacement of the forces (k the largest
     K_ii/M_ii), for the exosystems' initial state."""
-    M, K = scene_arrays(scene)[0], scene_arrays(scene)[2]
+    M, _, K, _, _ = scene_arrays(scene)
     mass = np.abs(np.diag(M))
     stiff = float(np.max(np.abs(np.diag(K)) / np.where(mass > 0, mass, np.inf), initial=0.0))
     size = _force_size(scene) / stiff if stiff > 0 else 1.0
@@ -228,15 +224,14 @@ def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | 
     if why is not None:
         raise SceneError(f"the numeric forced route cannot take this scene: {why}")
     pieces = []
-    scale = _state_scale(scene)
     for (delay, period), inputs in sorted(_inputs(scene).items(),
                                           key=lambda item: (item[0][1] is not None, item[0][0])):
         start = delay == 0 and period is None
         if not inputs and not start:
             continue
-        pieces.append((_Piece(delay, period, None, any(part.impulse != 0 for part in inputs),
+        pieces.append((_Piece(delay, period, any(part.impulse != 0 for part in inputs),
                               not start), inputs))
-    solved = [(piece, _solve_piece(scene, piece, inputs, scale, solver, target))
+    solved = [(piece, _solve_piece(scene, piece, inputs, solver, target))
               for piece, inputs in pieces]
     method = solved[0][1].method
     split = sum(isinstance(found, SplitPiece) for _, found in solved)
@@ -247,7 +242,7 @@ def solve_exo(scene: Scene, solver: Callable[..., Solution], *, target: float | 
     return ExoSolution(scene, solved, reason=text, target=target)
 
 
-def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input], scale: sp.Expr,
+def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input],
                  solver: Callable[..., Solution], target: float | None) -> Any:
     """The split into a particular and a free motion where it is exact
     (:mod:`laplace_springs.routes.exo_split`), else the augmented scene solved."""
@@ -258,13 +253,14 @@ def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input], scale: sp.Ex
                         solver, target)
     if split is not None:
         return split
-    return solver(_augmented(scene, inputs, start, scale), target=target)
+    return solver(_augmented(scene, inputs, start, _state_scale(scene)), target=target)
 
 
 class ExoSolution(Solution):
     """Motion of a forced scene as the sum of its pieces (see the module notes): each a
-    particular plus a free motion, or an augmented unforced scene. ``method`` is the first piece's engine + ``"+exo"``; ``x`` has no closed form
-    here (use ``method='exact'`` on scenes small enough)."""
+    particular plus a free motion, or an augmented unforced scene. ``method`` is the first
+    piece's engine + ``"+exo"``; ``x`` has no closed form here (use ``method='exact'`` on
+    scenes small enough)."""
 
     _planned = False
 
@@ -306,15 +302,15 @@ class ExoSolution(Solution):
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         return self._sum(times, order, self.target)
 
-    def _initial(self, order: int) -> np.ndarray:
-        """x(0), or x'(0+) = v0 plus M⁻¹ times the impulses at t = 0 (exact, rounded once)."""
-        data = [sp.Rational(v) for v in (self.scene.x0 if order == 0 else self.scene.v0)]
+    @cached_property
+    def _start(self) -> tuple[np.ndarray, np.ndarray]:
+        """x(0) and x'(0+) = v0 plus M⁻¹ times the impulses at t = 0 (exact, rounded once)."""
+        v0 = [sp.Rational(v) for v in self.scene.v0]
         impulses = [(p.row, p.impulse) for p in _inputs(self.scene)[(Fraction(0), None)]
                     if p.impulse != 0]
-        if order == 1 and impulses:
-            jump = impulse_jump(self.scene, impulses)
-            data = [v + j for v, j in zip(data, jump)]
-        return np.array([float(v) for v in data])
+        if impulses:
+            v0 = [v + j for v, j in zip(v0, impulse_jump(self.scene, impulses))]
+        return (np.array([float(v) for v in self.scene.x0]), np.array([float(v) for v in v0]))
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         return self._sum(times, order, target)  # each piece escalates through its own plan
@@ -323,27 +319,34 @@ class ExoSolution(Solution):
         n = self.scene.n
         values = np.zeros((n, len(times)))
         bounds = np.zeros_like(values)
-        exact = [Fraction(times.exact(i)) for i in range(len(times))] if len(times) else []
+        exact = [Fraction(times.exact(i)) for i in range(len(times))]
         start = [i for i, t in enumerate(exact) if t == 0]
         if start and order < 2:  # x(0) = x0 and x'(0+) = v0 (+ impulses at 0): exactly
-            data = self._initial(order)
+            data = self._start[order]
             values[:, start] = data[:, None]
             bounds[:, start] = (np.finfo(float).eps / 2 * np.abs(data))[:, None]
-        for piece, solution in self.pieces_solved:
-            for shift in _shifts(piece, max(exact, default=Fraction(0))):
-                # a piece from rest is at rest when it starts (its velocity too, unless
-                # an impulse starts it)
-                rest = piece.at_rest and (order == 0 or (order == 1 and not piece.impulsive))
-                columns = [i for i, t in enumerate(exact) if (t > shift or (t == shift and not rest))
-                           and not (t == 0 and order < 2)]
-                if not columns:
-                    continue
-                shifted = [exact[i] - shift for i in columns]
-                part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
-                                                      return_error=True, progress=False)
-                values[:, columns] += part[:n]
-                bounds[:, columns] += part_bounds[:n]
+        for solution, columns, shifted in self._placements(exact, order, at_switch=True):
+            part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
+                                                  return_error=True, progress=False)
+            values[:, columns] += part[:n]
+            bounds[:, columns] += part_bounds[:n]
         return values, bounds + np.finfo(float).eps * np.abs(values)
+
+    def _placements(self, exact: list[Fraction], order: int,
+                    at_switch: bool) -> Iterator[tuple[Any, list[int], list[Fraction]]]:
+        """Per piece and switching time: the piece, the columns it reaches and their times
+        after the switch. With ``at_switch``, a piece from rest leaves out the times at its
+        switch where it is at rest (its velocity too, unless an impulse starts it), and
+        t = 0 is left to the initial data for x and x'."""
+        for piece, solution in self.pieces_solved:
+            rest = at_switch and piece.at_rest and (
+                order == 0 or (order == 1 and not piece.impulsive))
+            for shift in _shifts(piece, max(exact, default=Fraction(0))):
+                columns = [i for i, t in enumerate(exact)
+                           if (t > shift or (t == shift and not rest))
+                           and not (at_switch and t == 0 and order < 2)]
+                if columns:
+                    yield solution, columns, [exact[i] - shift for i in columns]
 
     def _digits(self, times: Times, order: int, dps: int) -> tuple[np.ndarray, np.ndarray]:
         """``dps`` digits: the pieces' own digits at the shifted times, summed."""
@@ -351,16 +354,12 @@ class ExoSolution(Solution):
         values = np.zeros((n, len(times)), dtype=object)
         bounds = np.zeros((n, len(times)), dtype=object)
         exact = [Fraction(times.exact(i)) for i in range(len(times))]
-        for piece, solution in self.pieces_solved:
-            for shift in _shifts(piece, max(exact, default=Fraction(0))):
-                columns = [i for i, t in enumerate(exact) if t >= shift]
-                if columns:
-                    part, part_bounds = solution.evaluate([exact[i] - shift for i in columns],
-                                                          derivative=order, dps=dps,
-                                                          return_error=True)
-                    with mpmath.workdps(dps + 10):  # the sums with guard digits
-                        values[:, columns] = values[:, columns] + part[:n]
-                        bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
+        for solution, columns, shifted in self._placements(exact, order, at_switch=False):
+            part, part_bounds = solution.evaluate(shifted, derivative=order, dps=dps,
+                                                  return_error=True)
+            with mpmath.workdps(dps + 10):  # the sums with guard digits
+                values[:, columns] = values[:, columns] + part[:n]
+                bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
         return values, bounds
 
     def verify(self, *, samples: Any = ("0.37", "1.3", "4.1"),
@@ -379,7 +378,7 @@ class ExoSolution(Solution):
         size = np.max(np.abs(M) @ np.abs(a) + np.abs(C) @ np.abs(v) + np.abs(K) @ np.abs(x)
                       + np.abs(force))
         massive = [i for i in range(self.scene.n) if i not in massless_nodes(self.scene)]
-        v0 = self._initial(1)  # x'(0+): v0 and the impulses at t = 0
+        v0 = self._start[1]  # x'(0+): v0 and the impulses at t = 0
         start = np.max(np.abs(np.concatenate([x[:, 0] - x0, v[massive, 0] - v0[massive]])))
         data = np.max(np.abs(np.concatenate([x0, v0])))
         return Verification(float(residual / size) if size else float(residual),

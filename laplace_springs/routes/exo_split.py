@@ -54,11 +54,13 @@ def _rational(value: Any) -> sp.Rational:
 
 class SplitPiece:
     """x = x_h + Π w for one piece (see the module notes): ``free`` is the solution of the
-    free motion, ``blocks`` the scalar exosystem solutions with their (Π S^r) as float64."""
+    free motion, ``blocks`` the scalar exosystem solutions with their Π S^r (r = 0, 1, 2)
+    exactly (fmpq_mat), ``rounded`` the same as float64."""
 
     def __init__(self, free: Solution, blocks: list[tuple[Solution, list[Any]]]) -> None:
         self.free = free
         self.blocks = blocks
+        self.rounded = [[_float(P) for P in weights] for _, weights in blocks]
 
     @property
     def method(self) -> str:
@@ -87,14 +89,14 @@ class SplitPiece:
         values, bounds = self.free.evaluate(list(times), derivative=derivative, target=looser,
                                             return_error=True, progress=False)
         rounding = np.zeros_like(values)
-        for exo, weights in self.blocks:
+        for (exo, _), weights in zip(self.blocks, self.rounded):
             w, w_bounds = exo.evaluate(list(times), derivative=0, target=target,
                                        return_error=True, progress=False)
             dw, dw_bounds = exo.evaluate(list(times), derivative=1, target=target,
                                          return_error=True, progress=False)
-            state = np.vstack([w[:1], dw[:1]])[:weights[derivative].ncols()]
+            P = weights[derivative]
+            state = np.vstack([w[:1], dw[:1]])[:P.shape[1]]
             state_bounds = np.vstack([w_bounds[:1], dw_bounds[:1]])[:state.shape[0]]
-            P = _float(weights[derivative])
             part = P @ state
             values = values + part
             size = np.abs(P) @ np.abs(state)
@@ -120,9 +122,9 @@ class SplitPiece:
             rows = [w[0], dw[0]][:P.ncols()]
             errors = [w_bounds[0], dw_bounds[0]][:P.ncols()]
             for i in range(P.nrows()):
-                for col in range(len(times)):
-                    for k in range(P.ncols()):
-                        weight = mpmath.mpf(int(P[i, k].p)) / int(P[i, k].q)
+                for k in range(P.ncols()):
+                    weight = mpmath.mpf(int(P[i, k].p)) / int(P[i, k].q)
+                    for col in range(len(times)):
                         values[i, col] += weight * rows[k][col]
                         bounds[i, col] += abs(weight) * errors[k][col]
 
@@ -240,7 +242,7 @@ def impulse_jump(scene: Scene, impulses: list[tuple[int, Any]]) -> list[sp.Ratio
     if jump is None:
         column = scene.M.LUsolve(sp.Matrix([sum((d for row, d in impulses if row == i),
                                                 sp.Integer(0)) for i in range(scene.n)]))
-        return [sp.nsimplify(v) for v in column]
+        return list(column)
     return [_rational(v) for v in jump]
 
 

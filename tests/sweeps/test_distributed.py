@@ -118,16 +118,21 @@ def test_killed_worker_mid_run_gives_the_complete_identical_result(own_client, t
     same_code()  # the worker started in place of the killed one too
 
 
-def test_cost_chunks_quantities_and_the_small_path(client):
-    """Chunks cut by estimated cost; quantities reduced on the workers; the compiled
-    two-mass route gives the local numbers."""
+def _pair(count: int) -> tuple[ls.Scene, dict[str, np.ndarray]]:
+    """A two-mass scene with parameters k1, k2, c and ``count`` random sets of them."""
     pair = ls.Scene.from_components(masses={"m1": 1, "m2": 1},
                                     springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2")},
                                     dashpots={"c": ("wall", "m1", "c")}, x0=[1, 0], v0=[0, 1],
                                     parameters=["k1", "k2", "c"])
     rng = np.random.default_rng(11)
-    values = {"k1": rng.uniform(0.5, 3, 3000), "k2": rng.uniform(0.5, 3, 3000),
-              "c": rng.uniform(0.01, 4, 3000)}
+    return pair, {"k1": rng.uniform(0.5, 3, count), "k2": rng.uniform(0.5, 3, count),
+                  "c": rng.uniform(0.01, 4, count)}
+
+
+def test_cost_chunks_quantities_and_the_small_path(client):
+    """Chunks cut by estimated cost; quantities reduced on the workers; the compiled
+    two-mass route gives the local numbers."""
+    pair, values = _pair(3000)
     values["c"][5], values["k1"][5], values["k2"][5] = 2.0, 1.0, 1.0
     times = np.linspace(0, 12, 40)
     same_code()
@@ -145,13 +150,7 @@ def test_cost_chunks_quantities_and_the_small_path(client):
 def test_the_callers_limits_reach_the_workers(client, set_limits):
     """A sweep under ``using_limits`` runs under them on the workers too: a wider cluster
     gap changes the compiled route's numbers, and the client's run follows the local one."""
-    pair = ls.Scene.from_components(masses={"m1": 1, "m2": 1},
-                                    springs={"k1": ("wall", "m1", "k1"), "k2": ("m1", "m2", "k2")},
-                                    dashpots={"c": ("wall", "m1", "c")}, x0=[1, 0], v0=[0, 1],
-                                    parameters=["k1", "k2", "c"])
-    rng = np.random.default_rng(11)
-    values = {"k1": rng.uniform(0.5, 3, 300), "k2": rng.uniform(0.5, 3, 300),
-              "c": rng.uniform(0.01, 4, 300)}
+    pair, values = _pair(300)
     times = np.linspace(0, 12, 40)
     same_code()
     default = ls.sweep(pair, values, times, chunk=100, return_error=True)
