@@ -79,9 +79,10 @@ def column_verdicts(values: np.ndarray, bounds: np.ndarray, floor: float,
     """
     if values.shape[1] == 0:
         return np.zeros(0, dtype=bool), np.zeros(0)
-    scale = column_scales(values, floor)
+    largest = np.abs(values).max(axis=0)   # NaN or inf where a value is not finite
     top = bounds.max(axis=0)
-    bad = ~(np.isfinite(values).all(axis=0) & np.isfinite(top))
+    bad = ~(np.isfinite(largest) & np.isfinite(top))
+    scale = np.maximum(largest, floor)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         relative = np.where(top == 0, 0.0, top / np.where(scale > 0, scale, np.inf))
         pending = bad | (top > target * scale)

@@ -555,18 +555,25 @@ def _check_size(count: int, n: int) -> None:
             f"{max(most // max(n, 1), 1):,}")
 
 
+#: Values above this are refused as beyond float64 (a quarter of its largest number).
+_HUGE = float(np.finfo(float).max) / 4
+
+
 def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times,
                         report: EvaluationReport, target: float) -> None:
     """Raise rather than return a value beyond float64, or one no engine could bound within
     max(target, Limits.refusal_bound) of the scale."""
+    worst = report.relative_bounds
+    refusal = max(target, limits().refusal_bound)
+    if values.size and float(np.abs(values).max()) <= _HUGE and float(worst.max()) <= refusal:
+        return  # every value within range, every bound within the refusal bound
     with np.errstate(invalid="ignore"):
-        huge = np.isfinite(values) & (np.abs(values) > np.finfo(float).max / 4)
+        huge = np.isfinite(values) & (np.abs(values) > _HUGE)
     if huge.any():
         column = int(np.flatnonzero(huge.any(axis=0))[0])
         raise OverflowError(f"x(t) at t = {float(times.hi[column])!r} is beyond the float64 range; "
                             "evaluate(..., dps=30) gives it")
-    worst = report.relative_bounds
-    missed = np.flatnonzero(~(worst <= max(target, limits().refusal_bound)))
+    missed = np.flatnonzero(~(worst <= refusal))
     if missed.size:
         column = int(missed[0])
         tried = ", ".join(report.plan.chain) or "none"

@@ -8,6 +8,7 @@ first engine that can hold the scene, and records the plan's reason. Each later
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -104,7 +105,7 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         if isinstance(solution, Refusal):
             refusals.append(solution)
         elif method == "auto" and engine(name).tier == 0 and name != "exact" \
-                and (worst := _probe(solution)) > target:
+                and (worst := _probe(solution, target)) > target:
             refusals.append(Refusal(name, f"its own bound ({worst:.1e} of the scale) misses "
                                     "the target at Limits.probe_times"))
             probed.append((worst, solution, chosen))
@@ -135,13 +136,23 @@ def _build(name: str, scene: Scene, chosen: Plan, target: float,
         return Refusal(name, str(exc), "max_exact_factor_degree")
 
 
-def _probe(solution: Solution) -> float:
+def _probe(solution: Solution, target: float) -> float:
     """The engine's own largest bound at Limits.probe_times, relative to the scale (a scene
-    whose scales float64 cannot separate: the next engine of the plan may do better)."""
+    whose scales float64 cannot separate: the next engine of the plan may do better).
+
+    An engine whose motion gives its bounds alone (``largest_bound``, the tiny engine) is
+    first judged against the floor S₀ of the scale, which is at most max(‖x(t)‖∞, S₀): a
+    bound that meets the target there meets it at the probe, and no value is formed."""
     given = limits().probe_times
     times = _PROBES.get(given)
     if times is None:
         times = _PROBES[given] = as_times(np.array(given))
+    largest = getattr(getattr(solution, "motion", None), "largest_bound", None)
+    if largest is not None:
+        floor = solution._floor(0)
+        quick = largest(times.hi) / floor if floor > 0 else math.inf
+        if quick <= target:
+            return quick
     values, bounds = solution._float(times, 0)
     return float(np.max(relative_bounds(values, bounds, solution._floor(0)), initial=0.0))
 

@@ -142,6 +142,10 @@ def as_times(times: object) -> Times:
     ...
     ValueError: times[1] must be finite, got nan
     """
+    if type(times) is np.ndarray and times.dtype == np.float64 and times.size:
+        fast = _float_times(times)  # the common call: float64 seconds, nothing to convert
+        if fast is not None:
+            return fast
     _check_count(times)
     times = times_to_seconds(times)
     numeric = times if isinstance(times, np.ndarray) else _plain_numbers(times)
@@ -164,6 +168,17 @@ def as_times(times: object) -> Times:
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
         raise ValueError(f"times[{i}] = {values[i]!r} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
+
+
+def _float_times(times: np.ndarray) -> Times | None:
+    """Times from a float64 array, or None when one is negative or not finite (the general
+    path then names it)."""
+    if times.size > limits().max_times:
+        return None
+    hi = times.astype(float, copy=True).ravel()
+    if not (hi.min() >= 0 and hi.max() < math.inf):
+        return None
+    return Times(hi, np.zeros(hi.size), ())
 
 
 def _check_count(times: object) -> None:

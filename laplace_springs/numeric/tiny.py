@@ -346,6 +346,26 @@ class TinyMotion:
             bounds[:, start] = (U * np.abs(initial))[:, None]
         return values, bounds
 
+    def largest_bound(self, t: np.ndarray) -> float:
+        """The largest bound of x at the float64 times ``t`` over every coordinate (inf
+        where the decomposition serves no time): the bounds of :meth:`evaluate` without its
+        values, for a caller that compares them with a floor of the scale.
+
+        >>> scene = Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0])
+        >>> bool(tiny_motion(scene).largest_bound(np.array([0.0, 1.0])) < 1e-14)
+        True
+        """
+        form = self.form
+        if isinstance(form, _Scalar):
+            bounds = form.evaluate(t, None, 0)[1]
+        elif form.failure is not None:
+            return math.inf
+        else:
+            with np.errstate(over="ignore", invalid="ignore"):
+                bounds = form.bounds(t, 0)
+        largest = float(bounds.max(initial=0.0))
+        return math.inf if math.isnan(largest) else largest
+
     def poles(self) -> np.ndarray:
         """The poles: the roots of Δ(λ) = det(λ²M + λC + K), complex float64."""
         return np.asarray(self.form.poles)

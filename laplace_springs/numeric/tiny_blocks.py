@@ -356,7 +356,7 @@ class BlockMotion:
             Z_long += self.Z_lo
         XB = X_long * diagonal if diagonal is not None else X_long @ B
         R = (Z_long @ X_long - XB).astype(complex)
-        product = Y @ np.column_stack((self.y0, X, R))
+        product = Y @ np.concatenate((self.y0[:, None], X, R), axis=1)
         coefficients: list[complex] = product[:, 0].tolist()
         for block in blocks:  # the coefficients of a real motion
             for i in block.columns:
@@ -383,8 +383,8 @@ class BlockMotion:
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
         self.c_norm = c_norm
-        self.growth = max(block.growth for block in blocks)
-        self.speed = max(abs(block.mu) + block.nu for block in blocks)
+        self.growth = max([block.growth for block in blocks])
+        self.speed = max([abs(block.mu) + block.nu for block in blocks])
         self._orders: dict[int, _Order] = {}
 
     # -- evaluation --------------------------------------------------------------------
@@ -422,6 +422,10 @@ class BlockMotion:
         for block, g_C, g_S, _ in weights.doubles:
             values += self._double(block, g_C, g_S, t)
         return values, self._bounds(weights, t)
+
+    def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
+        """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""
+        return self._bounds(self._order(order), t)
 
     @staticmethod
     def _double(block: _Block, g_C: np.ndarray, g_S: np.ndarray, t: np.ndarray) -> np.ndarray:

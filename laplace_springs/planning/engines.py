@@ -160,7 +160,15 @@ def _certified_refusal(facts: SceneFacts, request: Request) -> str | None:
             or _size(facts, "certified_max_order", "first-order size 2n =", order=True))
 
 
+def _not_asked() -> str:
+    return ("its damping class is not asked on scenes the tiny engine takes "
+            f"(at most Limits.tiny_max_coordinates = {limits().tiny_max_coordinates} "
+            "coordinates); method='classical', 'chebyshev' or 'refined' asks it")
+
+
 def _symmetric_refusal(facts: SceneFacts, request: Request) -> str | None:
+    if facts.classical is None:
+        return _numeric(facts) or _not_asked()
     return (_numeric(facts)
             or (None if facts.classical else "the damping is not classical (C M⁻¹K ≠ K M⁻¹C)")
             or _size(facts, "classical_max_coordinates", "coordinates"))
@@ -182,6 +190,8 @@ def _classical_expectation(facts: SceneFacts, request: Request) -> str | None:
 def _chebyshev_refusal(facts: SceneFacts, request: Request) -> str | None:
     if why := _numeric(facts):
         return why
+    if facts.rayleigh is None:
+        return _not_asked()
     if not facts.rayleigh:
         return "the damping is not Rayleigh's (C = aK + bM with a diagonal M)"
     if facts.stiffness_bound is None:

@@ -66,10 +66,11 @@ class SceneFacts:
         Every entry of M, C, K, x0, v0 is a rational number.
     first_order : bool
         M invertible, or massless nodes held by dashpots: y' = Z y exists.
-    classical : bool
-        Undamped or classically damped (C M⁻¹K = K M⁻¹C, checked exactly).
-    rayleigh : bool
-        C = aK + bM exactly (a, b ≥ 0) with a diagonal positive M.
+    classical : bool or None
+        Undamped or classically damped (C M⁻¹K = K M⁻¹C, checked exactly); None: not asked
+        (a scene the tiny engine takes, unless an engine that needs it is asked for).
+    rayleigh : bool or None
+        C = aK + bM exactly (a, b ≥ 0) with a diagonal positive M; None as ``classical``.
     krylov : bool
         Rational, unforced, diagonal positive M, K ⪰ 0 and C + Cᵀ ⪰ 0 proved exactly.
     nnz : int
@@ -96,8 +97,8 @@ class SceneFacts:
     forced: bool
     rational: bool
     first_order: bool
-    classical: bool = False
-    rayleigh: bool = False
+    classical: bool | None = False   # None: not asked (a scene the tiny engine takes)
+    rayleigh: bool | None = False
     krylov: bool | None = False   # None: not asked (a tiny scene)
     nnz: int = 0
     diagonal_mass: bool = False
@@ -114,9 +115,13 @@ class SceneFacts:
     def knowing(self, built: Iterable[str]) -> SceneFacts:
         """These facts, with what an engine's successful build proves: a built krylov
         engine takes the scene even where its check was not asked (a tiny scene)."""
-        if self.krylov is None and "krylov" in set(built):
-            return replace(self, krylov=True)
-        return self
+        built = set(built)
+        facts = self
+        if facts.krylov is None and "krylov" in built:
+            facts = replace(facts, krylov=True)
+        if facts.classical is None and built & {"classical", "chebyshev"}:
+            facts = replace(facts, classical=True, rayleigh="chebyshev" in built or None)
+        return facts
 
     @property
     def numeric(self) -> bool:
@@ -130,9 +135,12 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
 
     Examples
     --------
-    >>> facts = scene_facts(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))
+    >>> scene = Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0])
+    >>> facts = scene_facts(scene)
     >>> facts.n, facts.rational, facts.classical, facts.krylov, round(facts.pole_bound, 6)
-    (1, True, True, None, 3.0)
+    (1, True, None, None, 3.0)
+    >>> scene_facts(scene, "classical").classical   # asked where an engine needs it
+    True
     >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0],
     ...                                 parameters=["k"])).symbolic
     True
@@ -143,6 +151,9 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
     facts: SceneFacts = table["facts"]
     if method == "krylov" and facts.krylov is None:
         facts = table["facts"] = replace(facts, krylov=krylov_refusal(scene) is None)
+    if method in _DAMPING_METHODS and facts.classical is None:
+        rayleigh, classical = _damping_class(scene)
+        facts = table["facts"] = replace(facts, rayleigh=rayleigh, classical=classical)
     if method == "refined" and facts.quote("refined") is None and facts.classical:
         facts = table["facts"] = replace(facts, quotes=facts.quotes + (_refined_quote(scene),))
     return facts
@@ -157,8 +168,17 @@ def _facts(scene: Scene) -> SceneFacts:
     forced = scene.is_forced or sampled
     first_order = not symbolic and has_first_order_form(scene)
     unforced = first_order and not forced
-    rayleigh = unforced and rayleigh_coefficients(scene) is not None  # O(nnz), implies classical
-    classical = rayleigh or (unforced and classical_damping(scene))
+    # the refined engine (long horizons) is asked beyond the tiny engine's sizes only: its
+    # quote costs 90 us, more than the rest of a tiny scene's facts, and the tiny,
+    # certified and exact engines serve every horizon below
+    tiny = unforced and scene.n <= limits().tiny_max_coordinates
+    tiny_quote = _tiny_quote(scene) if tiny else None
+    rayleigh: bool | None
+    classical: bool | None
+    if tiny_quote is not None and tiny_quote.refusal is None:
+        rayleigh = classical = None  # not asked
+    else:
+        rayleigh, classical = _damping_class(scene) if unforced else (False, False)
     M = exact["M"] if exact["M"] is not None else scene_entries(scene, "M")
     diagonal = all(i == j for i, j in M) and len(M) == scene.n and not massless_nodes(scene)
     nnz = 0   # from the rational dicts when read (SymPy's todok: 0.15 s at 4,000 masses)
@@ -166,12 +186,8 @@ def _facts(scene: Scene) -> SceneFacts:
         read = exact[name]
         nnz += len(read if read is not None else scene_entries(scene, name))
     stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
-    # the refined engine (long horizons) is asked beyond the tiny engine's sizes only: its
-    # quote costs 90 us, more than the rest of a tiny scene's facts, and the tiny,
-    # certified and exact engines serve every horizon below
-    tiny = unforced and scene.n <= limits().tiny_max_coordinates
     quotes = ((_refined_quote(scene),) if classical and not symbolic and not tiny else ()) + (
-        (_tiny_quote(scene),) if tiny else ())
+        (tiny_quote,) if tiny_quote is not None else ())
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
                       rational=not symbolic and rational, first_order=first_order,
                       classical=classical, rayleigh=rayleigh,
@@ -179,6 +195,18 @@ def _facts(scene: Scene) -> SceneFacts:
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
                       pole_bound=poles, sampled=sampled, quotes=quotes,
                       periodic=scene.forcing is not None and scene.forcing.has(Periodic))
+
+
+#: Methods whose engines read the damping class (asked even where the tiny engine serves).
+_DAMPING_METHODS = frozenset({"classical", "chebyshev", "modal", "numeric", "refined"})
+
+
+def _damping_class(scene: Scene) -> tuple[bool, bool]:
+    """Whether an unforced scene's damping is Rayleigh's and classical, exactly: O(nnz), but
+    about 40 µs on a pair, a tenth of its whole solve, so a scene the tiny engine takes
+    leaves it unasked (the tiny, certified and exact engines serve it): (rayleigh, classical)."""
+    rayleigh = rayleigh_coefficients(scene) is not None  # implies classical
+    return rayleigh, rayleigh or classical_damping(scene)
 
 
 def _krylov_serves(scene: Scene) -> bool | None:

@@ -25,6 +25,8 @@ class Progress:
     def __init__(self, total: int, stream: TextIO | None = None, enabled: bool = True,
                  unit: str = "runs") -> None:
         self.total, self.done, self.enabled, self.unit = max(total, 1), 0, enabled, unit
+        if not enabled:  # nothing is shown: no clock, no look at the stream
+            return
         self.stream = stream if stream is not None else sys.stderr
         self.start = time.perf_counter()
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())

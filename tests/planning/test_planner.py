@@ -104,6 +104,24 @@ def test_a_named_method_restricts_the_primary_and_keeps_escalation_open():
         plan(facts, Request(), method="fastest")
 
 
+def test_a_tiny_scene_leaves_its_damping_class_unasked_until_an_engine_needs_it():
+    """The seed's Example 2 pair (C = M/5: Rayleigh, classical). Auto plans without the
+    exact damping check; a named symmetric engine asks it and serves, with the values the
+    tiny engine gives (both within their bounds of each other)."""
+    scene = ls.load_scene("vertical-pair-damped")
+    auto = ls.solve(scene)
+    assert auto.method == "tiny" and not {"classical", "chebyshev"} & set(auto.plan().chain)
+    times = [0.0, 0.5, 3.0]
+    values, bounds = auto.evaluate(times, return_error=True)
+    for method in ("classical", "chebyshev", "modal"):
+        named = ls.solve(ls.load_scene("vertical-pair-damped"), method=method)
+        assert named.method in ("classical", "chebyshev")
+        other, other_bounds = named.evaluate(times, return_error=True)
+        assert np.all(np.abs(values - other) <= bounds + other_bounds)
+    way_out = ls.plan(scene).refusals
+    assert any("method='classical'" in r.reason for r in way_out if r.engine == "classical")
+
+
 # ----------------------------------------------------------------------------- execution
 
 
