@@ -183,19 +183,30 @@ def _read(scene: Scene) -> TinyData | str:
 def _range_refusal(data: TinyData) -> str | None:
     """Why the scene's numbers are beyond the engine's float64 closed forms, or None: every
     nonzero entry of M⁻¹K, M⁻¹C, x0 and v0 within Limits.tiny_max_magnitude^{±1}."""
-    most = limits().tiny_max_magnitude
-    high = fmpq(*float(most).as_integer_ratio())
+    most = float(limits().tiny_max_magnitude)
+    high = fmpq(*most.as_integer_ratio())
     low = 1 / high
+    # a float strictly inside (1/most, most) by a relative 2^-40 is inside exactly
+    inner_low, inner_high = (1 + 2.0**-40) / most, most * (1 - 2.0**-40)
     A, B = data.normalized()
     named = [("M⁻¹K", A.values()), ("M⁻¹C", B.values()), ("x0", data.x0_exact),
              ("v0", data.v0_exact)]
     for name, values in named:
         for value in values:
-            if value != 0 and not low <= abs(value) <= high:
+            if not inner_low < _size(value) < inner_high and value != 0 \
+                    and not low <= abs(value) <= high:
                 return (f"an entry of {name} is about {_magnitude(value)}, beyond "
                         f"Limits.tiny_max_magnitude = {most:g} (or its reciprocal): the "
                         "float64 closed forms would overflow")
     return None
+
+
+def _size(value: Any) -> float:
+    """|value| in float64 (inf beyond its range)."""
+    try:
+        return abs(float(value))
+    except OverflowError:
+        return math.inf
 
 
 def _magnitude(value: Any) -> str:
@@ -366,6 +377,11 @@ class TinyMotion:
         largest = float(bounds.max(initial=0.0))
         return math.inf if math.isnan(largest) else largest
 
+    @property
+    def spectral_radius(self) -> float:
+        """max |λ| over the poles (decomposes on first use)."""
+        return self.form.radius
+
     def poles(self) -> np.ndarray:
         """The poles: the roots of Δ(λ) = det(λ²M + λC + K), complex float64."""
         return np.asarray(self.form.poles)
@@ -428,6 +444,7 @@ class _Scalar:
             near = float(k / m) / far if far else 0.0
             self.rates = (max(near, far), min(near, far))
             self.poles = np.array(self.rates, dtype=complex)
+        self.radius = max(abs(complex(p)) for p in self.poles)
 
     def evaluate(self, t: np.ndarray, lo: np.ndarray | None,
                  order: int) -> tuple[np.ndarray, np.ndarray]:

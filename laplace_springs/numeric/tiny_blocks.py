@@ -178,6 +178,8 @@ class BlockMotion:
     ----------
     poles : numpy.ndarray
         The eigenvalues of Z (the poles).
+    radius : float
+        max |pole|.
     failure : str or None
         Why the decomposition serves no time (every bound infinite), or None.
     """
@@ -209,7 +211,9 @@ class BlockMotion:
         self.y0 = np.concatenate([x0, v0 / sigma])
         w, V = _eig(Z)
         self.poles = w
-        if not math.isfinite(float(np.abs(w).sum())):
+        sizes = np.abs(w)
+        self.radius = float(sizes.max())
+        if not math.isfinite(float(sizes.sum())):
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
         Y = _inv(V)

@@ -71,6 +71,9 @@ class ModalSolution(Solution):
     def _spectral_radius(self) -> float:  # the motion's poles do not change
         if isinstance(self.motion, ChebyshevMotion):  # no eigenvalues computed for evaluate()
             return self.motion.spectral_radius
+        radius = getattr(self.motion, "spectral_radius", None)  # the tiny engine keeps it
+        if radius is not None:
+            return float(radius)
         return float(np.max(np.abs(self.poles), initial=0.0))
 
     @cached_property
