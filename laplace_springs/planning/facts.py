@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
-from typing import Any
+
+import numpy as np
 
 from ..limits import limits
 from ..model.periodic import Periodic
@@ -28,6 +29,7 @@ from ..numeric.first_order import (
     scene_entries,
 )
 from ..numeric.krylov import krylov_refusal
+from ..numeric.krylov_entries import entries_of
 from ..numeric.refined import refined_cost, refined_refusal
 from ..numeric.tiny import tiny_cost, tiny_refusal
 
@@ -68,7 +70,8 @@ class SceneFacts:
         M invertible, or massless nodes held by dashpots: y' = Z y exists.
     classical : bool or None
         Undamped or classically damped (C M⁻¹K = K M⁻¹C, checked exactly); None: not asked
-        (a scene the tiny engine takes, unless an engine that needs it is asked for).
+        (a scene the tiny engine takes, unless an engine that needs it is asked for; the
+        spectral bounds below are then None too).
     rayleigh : bool or None
         C = aK + bM exactly (a, b ≥ 0) with a diagonal positive M; None as ``classical``.
     krylov : bool
@@ -137,10 +140,11 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
     --------
     >>> scene = Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0])
     >>> facts = scene_facts(scene)
-    >>> facts.n, facts.rational, facts.classical, facts.krylov, round(facts.pole_bound, 6)
-    (1, True, None, None, 3.0)
-    >>> scene_facts(scene, "classical").classical   # asked where an engine needs it
-    True
+    >>> facts.n, facts.rational, facts.classical, facts.krylov, facts.pole_bound
+    (1, True, None, None, None)
+    >>> asked = scene_facts(scene, "classical")   # asked where an engine needs them
+    >>> asked.classical, round(asked.pole_bound, 6)
+    (True, 3.0)
     >>> scene_facts(Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0],
     ...                                 parameters=["k"])).symbolic
     True
@@ -153,7 +157,9 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
         facts = table["facts"] = replace(facts, krylov=krylov_refusal(scene) is None)
     if method in _DAMPING_METHODS and facts.classical is None:
         rayleigh, classical = _damping_class(scene)
-        facts = table["facts"] = replace(facts, rayleigh=rayleigh, classical=classical)
+        stiffness, poles = _bounds(scene) if facts.diagonal_mass else (None, None)
+        facts = table["facts"] = replace(facts, rayleigh=rayleigh, classical=classical,
+                                         stiffness_bound=stiffness, pole_bound=poles)
     if method == "refined" and facts.quote("refined") is None and facts.classical:
         facts = table["facts"] = replace(facts, quotes=facts.quotes + (_refined_quote(scene),))
     return facts
@@ -185,7 +191,10 @@ def _facts(scene: Scene) -> SceneFacts:
     for name in ("M", "C", "K"):
         read = exact[name]
         nnz += len(read if read is not None else scene_entries(scene, name))
-    stiffness, poles = _bounds(exact) if rational and diagonal else (None, None)
+    # the spectral bounds are read by the symmetric and krylov engines' models: asked with
+    # the damping class
+    stiffness, poles = _bounds(scene) if rational and diagonal and classical is not None \
+        else (None, None)
     quotes = ((_refined_quote(scene),) if classical and not symbolic and not tiny else ()) + (
         (tiny_quote,) if tiny_quote is not None else ())
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
@@ -233,7 +242,7 @@ def _refined_quote(scene: Scene) -> Quote:
     return Quote("refined", None, build, refined_cost(scene, t_max=0.0, count=1, order=0) - build)
 
 
-def _bounds(exact: dict[str, Any]) -> tuple[float | None, float | None]:
+def _bounds(scene: Scene) -> tuple[float | None, float | None]:
     """Verified bounds on λ_max(M⁻¹K) and on |λ| for a diagonal positive rational M.
 
     With D = M^{1/2}, the poles are those of the first-order operator in the energy
@@ -241,18 +250,18 @@ def _bounds(exact: dict[str, Any]) -> tuple[float | None, float | None]:
     Gershgorin row sum); the row sums are of non-negative terms, so a relative margin of
     1e-9 covers their float64 rounding for up to 10⁶ terms per row.
     """
-    mass = {i: float(v) for (i, _), v in exact["M"].items()}
-    if not mass or min(mass.values()) <= 0:
+    n = scene.n
+    M, C, K = (entries_of(scene, name) for name in ("M", "C", "K"))
+    assert M is not None and C is not None and K is not None
+    if M.rows.size == 0 or float(M.value.min()) <= 0:
         return None, None
-    root = {i: math.sqrt(m) for i, m in mass.items()}
-    rows_K: dict[int, float] = {}
-    for (i, j), value in exact["K"].items():
-        rows_K[i] = rows_K.get(i, 0.0) + abs(float(value)) / (root[i] * root[j])
-    rows_C: dict[int, float] = {}
-    for (i, j), value in exact["C"].items():
-        rows_C[i] = rows_C.get(i, 0.0) + abs(float(value)) / (root[i] * root[j])
-    stiffness = max(rows_K.values(), default=0.0) * _MARGIN**3
-    damping = max(rows_C.values(), default=0.0) * _MARGIN**3
+    root = np.zeros(n)
+    root[M.rows] = np.sqrt(M.value)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        rows_K = np.bincount(K.rows, np.abs(K.value) / (root[K.rows] * root[K.cols]), minlength=n)
+        rows_C = np.bincount(C.rows, np.abs(C.value) / (root[C.rows] * root[C.cols]), minlength=n)
+    stiffness = float(rows_K.max(initial=0.0)) * _MARGIN**3
+    damping = float(rows_C.max(initial=0.0)) * _MARGIN**3
     if not (math.isfinite(stiffness) and math.isfinite(damping)):
         return None, None
     return stiffness, (math.sqrt(stiffness) + damping) * _MARGIN

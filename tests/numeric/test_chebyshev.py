@@ -75,6 +75,48 @@ def test_rayleigh_detection_is_exact():
         chebyshev_motion(other)
 
 
+def _exact_class(M, C, K) -> tuple[bool, bool]:
+    """(Rayleigh with a, b ≥ 0, classical) by python-flint matrices, written here: C = aK + bM
+    for the a, b solving two entries, and C M⁻¹K symmetric."""
+    from flint import fmpq, fmpq_mat
+    n = M.shape[0]
+    Mq, Cq, Kq = (fmpq_mat(n, n, [fmpq(int(v.p), int(v.q)) for v in A]) for A in (M, C, K))
+    P = Cq * Mq.inv() * Kq
+    classical = P.transpose() == P and Cq == Cq.transpose() and Kq == Kq.transpose()
+    a = Cq[0, 1] / Kq[0, 1]
+    b = (Cq[0, 0] - a * Kq[0, 0]) / Mq[0, 0]
+    return (Cq == a * Kq + b * Mq and a >= 0 and b >= 0), classical
+
+
+@pytest.mark.parametrize("change", ["none", "tiny", "dashpot", "commuting"])
+def test_large_scenes_are_classed_exactly_whatever_the_float_screens_see(change):
+    """Beyond 64 dashpot entries float64 screens may reject a damping class before the
+    exact pass: a change of 1e-30 (far below them) must still be found, and a class they
+    cannot reject must be confirmed exactly (a 60-mass chain with cross springs)."""
+    import sympy as sp
+    n = 60
+    names = [f"m{i}" for i in range(n)]
+    nodes = ["wall", *names, "wall"]
+    springs = {f"k{i}": (p, q, str(Fraction(1 + i % 5, 2))) for i, (p, q) in enumerate(zip(nodes, nodes[1:]))}
+    springs.update({f"x{i}": (names[i], names[i + 3], "1/3") for i in range(0, n - 3, 2)})
+    base = Scene.from_components(masses={m: str(Fraction(1 + i % 3, 2)) for i, m in enumerate(names)},
+                                 springs=springs, x0={names[0]: 1}, v0={})
+    M, K = base.M, base.K
+    C = K / 7 + M * sp.Rational(2, 3)
+    if change == "tiny":
+        C = C + sp.Rational(1, 10**30) * (sp.eye(n)[:, [3]] * sp.eye(n)[[8], :] + sp.eye(n)[:, [8]] * sp.eye(n)[[3], :])
+    elif change == "dashpot":
+        C = C + sp.Rational(1, 3) * sp.eye(n)[:, [5]] * sp.eye(n)[[5], :]
+    elif change == "commuting":
+        C = K * M.inv() * K / 100
+    scene = Scene.from_matrices(M=M, C=C, K=K, x0=base.x0, v0=base.v0)
+    rayleigh, classical = _exact_class(M, C, K)
+    assert (rayleigh_coefficients(scene) is not None) == rayleigh
+    assert classical_damping(scene) == classical
+    assert (rayleigh, classical) == {"none": (True, True), "tiny": (False, False),
+                                     "dashpot": (False, False), "commuting": (False, True)}[change]
+
+
 @pytest.mark.parametrize("seed", range(5))
 @pytest.mark.parametrize("damping", [None, ("0", "0"), ("0", "5")])  # random, undamped, overdamped
 def test_random_rayleigh_scenes_match_the_40_digit_reference_within_their_bound(seed, damping):
