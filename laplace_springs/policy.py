@@ -24,6 +24,8 @@ a value does not depend on the other times of the call.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .limits import limits
@@ -81,6 +83,9 @@ def column_verdicts(values: np.ndarray, bounds: np.ndarray, floor: float,
         return np.zeros(0, dtype=bool), np.zeros(0)
     largest = np.abs(values).max(axis=0)   # NaN or inf where a value is not finite
     top = bounds.max(axis=0)
+    if floor > 0 and math.isfinite(float(largest.sum()) + float(top.sum())):
+        scale = np.maximum(largest, floor)  # every number finite, every scale positive
+        return top > target * scale, top / scale
     bad = ~(np.isfinite(largest) & np.isfinite(top))
     scale = np.maximum(largest, floor)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
