@@ -350,8 +350,8 @@ class TinyMotion:
             values, bounds = self.form.evaluate(t, lo, order)
             if not math.isfinite(float(values.sum()) + float(bounds.sum())):
                 bounds = np.where(np.isfinite(values) & np.isfinite(bounds), bounds, np.inf)
-        start = t == 0
-        if start.any():  # x^(order)(0) is the initial data: exactly, rounded once
+        if not t.all():  # x^(order)(0) is the initial data: exactly, rounded once
+            start = np.flatnonzero(t == 0)
             initial = self.data.initial(order)
             values[:, start] = initial[:, None]
             bounds[:, start] = (U * np.abs(initial))[:, None]

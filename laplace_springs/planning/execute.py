@@ -143,17 +143,20 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
     finally:
         bar.close()
     state = state or _Kept.empty(n, count)
-    report = EvaluationReport(plan, tuple(state.source), state.relative, tuple(refusals))
+    report = EvaluationReport(plan, state.engines(), state.relative, tuple(refusals))
     return state.values, state.bounds, report
 
 
 @dataclass(eq=False)
 class _Kept:
-    """The values kept so far, their bounds, the engine of each time, and the verdicts."""
+    """The values kept so far, their bounds, the engine of each time, and the verdicts.
+
+    ``source`` is the engine of each time, or one name for every time (the first engine
+    took them all)."""
 
     values: np.ndarray
     bounds: np.ndarray
-    source: np.ndarray
+    source: np.ndarray | str
     pending: np.ndarray
     relative: np.ndarray
 
@@ -167,17 +170,25 @@ class _Kept:
     def taking(cls, result: tuple[np.ndarray, np.ndarray], name: str, floor: float,
                target: float) -> _Kept:
         """Every time from one engine's call."""
-        values, bounds = (np.array(a, dtype=float) for a in result)
-        kept = cls(values, bounds, np.full(values.shape[1], name, dtype=object),
-                   np.zeros(0, dtype=bool), np.zeros(0))
+        values, bounds = (np.array(a, dtype=float) for a in result)   # copies: ours to change
+        kept = cls(values, bounds, name, np.zeros(0, dtype=bool), np.zeros(0))
         kept.judge(floor, target)
         return kept
+
+    def engines(self) -> tuple[str, ...]:
+        """The engine of each time."""
+        if isinstance(self.source, str):
+            return (self.source,) * self.values.shape[1]
+        return tuple(self.source)
 
     def judge(self, floor: float, target: float) -> None:
         self.pending, self.relative = column_verdicts(self.values, self.bounds, floor, target)
 
     def keep(self, result: tuple[np.ndarray, np.ndarray], chunk: np.ndarray, name: str) -> None:
         """Per time, keep the new values where their largest bound is smaller."""
+        source = self.source if not isinstance(self.source, str) else \
+            np.full(self.values.shape[1], self.source, dtype=object)
+        self.source = source
         new, new_bounds = result
         finite = np.isfinite(new)
         with np.errstate(invalid="ignore"):
@@ -188,7 +199,7 @@ class _Kept:
         columns = chunk[take]
         self.values[:, columns] = new[:, take]
         self.bounds[:, columns] = new_bounds[:, take]
-        self.source[columns] = name
+        source[columns] = name
 
 
 def _chunk_values() -> int:
