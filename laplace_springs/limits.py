@@ -119,6 +119,16 @@ class Limits:
     #: 24 to 73 steps of t = 50 stays below the values' own rounding (4e-15 to 4e-14 of
     #: the scale) and takes about 2 double-double terms fewer per step than 2^-60.
     krylov_step_error: float = 2.0**-58
+    #: Largest X = ν_c·H of a long Bessel step of the krylov engine (its Chebyshev path for
+    #: scenes held by the ground; 0 turns it off): 124 products a step at 64, about 90 of
+    #: them in double-double.
+    krylov_bessel_norm: float = 64.0
+    #: Largest d·H of a Bessel step (d ≥ ‖M^{-1/2}CM^{-1/2}‖): its terms grow about like
+    #: e^{d·H}, and so do the bounds on their rounding.
+    krylov_bessel_growth: float = 4.0
+    #: Shortest X of a Bessel step: below it, Taylor's steps (fewer products per term's
+    #: double-double split) are about as cheap.
+    krylov_bessel_min_norm: float = 32.0
     #: Most float64 numbers the krylov engine keeps as checkpoints of its march (each step's
     #: starting state, 4n numbers): later calls restart from the nearest one (256 MB).
     krylov_checkpoint_floats: int = 32_000_000

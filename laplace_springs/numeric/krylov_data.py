@@ -118,19 +118,23 @@ class _Pattern:
     cols: np.ndarray
     indptr: np.ndarray
     counts: np.ndarray
+    shape: tuple[int, int]
 
-    def csr(self, data: np.ndarray, n: int) -> Any:
+    def csr(self, data: np.ndarray, n: int | None = None) -> Any:
         import scipy.sparse as sps
 
-        return sps.csr_matrix((data, self.cols.copy(), self.indptr.copy()), shape=(n, 2 * n))
+        return sps.csr_matrix((data, self.cols.copy(), self.indptr.copy()), shape=self.shape)
 
 
-def _pattern(n: int, rows: np.ndarray, cols: np.ndarray) -> _Pattern:
-    order = np.argsort(rows * (2 * n) + cols, kind="stable")
+def _pattern(n: int, rows: np.ndarray, cols: np.ndarray, columns: int | None = None) -> _Pattern:
+    """The pattern of an n x ``columns`` matrix (2n columns unless given)."""
+    width = 2 * n if columns is None else columns
+    order = np.argsort(rows * width + cols, kind="stable")
     counts = np.bincount(rows, minlength=n)
     indptr = np.concatenate([[0], np.cumsum(counts)])
-    index = np.int32 if 2 * n + 1 < 2**31 and rows.size < 2**31 else np.int64
-    return _Pattern(order, rows[order], cols[order].astype(index), indptr.astype(index), counts)
+    index = np.int32 if width + 1 < 2**31 and rows.size < 2**31 else np.int64
+    return _Pattern(order, rows[order], cols[order].astype(index), indptr.astype(index), counts,
+                    (n, width))
 
 
 def _weighted_norm(pattern: _Pattern, size: np.ndarray, weight: np.ndarray, n: int,
@@ -140,7 +144,7 @@ def _weighted_norm(pattern: _Pattern, size: np.ndarray, weight: np.ndarray, n: i
     power steps; irregular graphs, whose largest rows overstate the norm)."""
     import scipy.sparse as sps
 
-    lo, hi = columns.start or 0, columns.stop or 2 * n
+    lo, hi = columns.start or 0, columns.stop or pattern.shape[1]
     kept = (pattern.cols >= lo) & (pattern.cols < hi)
     rows, cols = pattern.rows[kept], pattern.cols[kept] - lo
     weighted = size[kept] * weight[rows]
@@ -173,7 +177,8 @@ def _step_matrix(n: int, pattern: _Pattern, hi: np.ndarray, lo: np.ndarray, root
     rest = sps.hstack([low, pattern.csr(hi, n)], format="csr")
     g_float = root * (_gamma(counts.astype(float)) + 3 * U + 2.0**-100)
     g_rest = root * (_gamma(2.0 * counts) + 2 * U) * (1 + 2 * U)
-    x_part, v_part, every = slice(0, n), slice(n, 2 * n), slice(0, 2 * n)
+    half = pattern.shape[1] // 2
+    x_part, v_part, every = slice(0, half), slice(half, 2 * half), slice(0, 2 * half)
     return StepMatrix(
         hi=pattern.csr(hi, n), sliced=pattern.csr(lead, n), rest=rest, bits=bits, width=width,
         beta=_weighted_norm(pattern, size, root, n, every),
