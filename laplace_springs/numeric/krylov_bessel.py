@@ -38,6 +38,7 @@ X = ν_c·H < 16.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -267,16 +268,17 @@ def bessel_data(scene: Scene) -> BesselData | None:
 @lru_cache(maxsize=64)
 def _state_coefficients(H: float, a: float, c: float, terms: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """c_k(H) = ε_k e^{−δH} J_k(X), k = 0..K, as double-doubles with a bound on each
-    one's error (arb balls: J_{K+2}, J_{K+1} directly, the rest by the backward recurrence
-    J_{k−1} = (2k/X)J_k − J_{k+1}, at 256 bits)."""
+    one's error (arb balls: J_{K+2}, J_{K+1} by their power series, the rest by the
+    backward recurrence J_{k−1} = (2k/X)J_k − J_{k+1}, stable downwards; the precision
+    covers the series' cancellation, about e^X)."""
     saved = ctx.prec
-    ctx.prec = 256
+    ctx.prec = 192 + int(1.5 * float(Fraction(2) * Fraction(H) / Fraction(a)))
     try:
         x = arb(fmpq(2) * _fmpq(H) / _fmpq(a))
         damp = (-arb(_fmpq(c) / _fmpq(a) * _fmpq(H))).exp()
         values = [arb(0)] * (terms + 3)
-        values[terms + 2] = x.bessel_j(terms + 2)
-        values[terms + 1] = x.bessel_j(terms + 1)
+        values[terms + 2] = _bessel_series(x, terms + 2)
+        values[terms + 1] = _bessel_series(x, terms + 1)
         for k in range(terms + 1, 0, -1):
             values[k - 1] = 2 * k / x * values[k] - values[k + 1]
         hi, lo, err = np.zeros(terms + 1), np.zeros(terms + 1), np.zeros(terms + 1)
@@ -292,6 +294,30 @@ def _state_coefficients(H: float, a: float, c: float, terms: int) -> tuple[np.nd
     return hi, lo, err
 
 
+def _bessel_series(x: Any, k: int) -> Any:
+    """J_k(x) in arb from Σ_m (−x²/4)^m (x/2)^k/(m!(m + k)!), the tail past the point
+    where the ratio of terms is below 1/2 bounded by twice its first term.
+
+    >>> ctx.prec = 128
+    >>> v = _bessel_series(arb(10), 3)
+    >>> ctx.prec = 53
+    >>> abs(float(v.mid()) - 0.05837937930518666) < 1e-15
+    True
+    """
+    quarter = x * x / 4
+    term = (x / 2) ** k / arb(k).gamma() / k if k > 0 else arb(1)
+    total = arb(0)
+    m = 0
+    while True:
+        total += term
+        ratio = quarter / ((m + 1) * (m + k + 1))
+        if ratio.upper() <= 0.5 and abs(term).upper() < total.rad() + 2.0**-600:
+            tail = float(abs(term * ratio).upper()) * 2
+            return total + arb(0, tail)
+        term = -term * ratio
+        m += 1
+
+
 def _fmpq(value: float) -> Any:
     q = Fraction(value)
     return fmpq(q.numerator, q.denominator)
@@ -304,7 +330,8 @@ def _fmpq(value: float) -> Any:
 class BesselTerms:
     """One step's terms (rows 1..K+1 of ``hi``/``lo`` hold t_0..t_K; row 0 is zero) and
     their norms: ``energy`` ≥ N(t_k), ``sup_x``/``sup_v`` the max-norms of each part;
-    ``local`` bounds ∫_0^H N(p' − Ap) (module notes)."""
+    ``local`` bounds ∫_0^H N(p' − Ap) (module notes; inf when only t_0..t_count were
+    formed), ``rounding[k]`` ≥ N(f_k)."""
 
     hi: np.ndarray
     lo: np.ndarray
@@ -312,6 +339,8 @@ class BesselTerms:
     sup_x: np.ndarray
     sup_v: np.ndarray
     local: float
+    rounding: np.ndarray
+    count: int
 
 
 class BesselStepper:
@@ -354,15 +383,20 @@ class BesselStepper:
                           + (q * U + U * U) * s1 + U * q * (1 + U) * (1 + q) * s_max) * (1 + 1e-9)
 
     # -- the terms ----------------------------------------------------------------------
-    def terms(self, zh: np.ndarray, zl: np.ndarray) -> BesselTerms:
+    def terms(self, zh: np.ndarray, zl: np.ndarray, count: int | None = None) -> BesselTerms:
+        """t_0..t_count (all K by default) from the state ẑ = zh + zl; each t_k is formed
+        the same way whatever ``count``."""
         d = self.data
-        K, e = d.terms, d.extended
+        e = d.extended
+        K = d.terms if count is None else min(count, d.terms)
         hi, lo, sup, norm = self.hi, self.lo, self._sup, self._norm
         hi[0], lo[0] = 0.0, 0.0
         hi[1], lo[1] = zh, zl
         sup[0], norm[0] = 0.0, 0.0
         self._measure(1)
         rounding = np.zeros(K + 1)          # rounding[k] ≥ N(f_k)
+        if K < 1:
+            raise ValueError("a Bessel step needs t_0 and t_1 at least")
         for k in range(K):
             if k < e:
                 bound = self._extended(k)
@@ -382,10 +416,13 @@ class BesselStepper:
         parts = self._parts[1:K + 2]
         # N(t) ≤ √‖K‖·‖t_x‖ + √m_max·‖t_v‖ for t = hi + lo (|lo| ≤ u|hi|; sums within MARGIN)
         energy = (d.root_K * parts[:, 0] + math.sqrt(d.m_max) * parts[:, 1]) * (1 + 2 * U) * _MARGIN + _TINY
-        w = d.weight
-        local = (float(w[:K] @ rounding[1:K + 1])
-                 + w[K + 1] * energy[K] + w[K] * (2 * d.norm_Y * energy[K] + energy[K - 1]))
-        return BesselTerms(hi, lo, energy, parts[:, 2].copy(), parts[:, 3].copy(), local * _MARGIN)
+        local = math.inf
+        if d.terms == K:
+            w = d.weight
+            local = (float(w[:K] @ rounding[1:K + 1])
+                     + w[K + 1] * energy[K] + w[K] * (2 * d.norm_Y * energy[K] + energy[K - 1])) * _MARGIN
+        return BesselTerms(hi, lo, energy, parts[:, 2].copy(), parts[:, 3].copy(), local,
+                           rounding.copy(), K)
 
     def _measure(self, row: int) -> None:
         """The 2-norms and max-norms of row ``row``'s x and v parts, its 2-norm and sup."""
@@ -470,28 +507,74 @@ class BesselStepper:
         return sh, sl, error * _MARGIN + _TINY
 
     # -- values inside the step --------------------------------------------------------
-    def values(self, terms: BesselTerms, s: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
-        """x (order 0) or v (order 1) at b + s for each s in [0, H), shape (len(s), n), and
-        a bound per time on the error of the coefficients and of the float64 sum."""
+    def cutoffs(self, s: np.ndarray) -> np.ndarray:
+        """K(s): the terms a value at b + s uses (x = ν_c·s), the first k with
+        x·κ_k(x)·(3 + 2‖Y‖) ≤ 2^-66, at least 2; a function of s alone."""
+        d = self.data
+        x = 2 * s / d.a * (1 + 1e-12)
+        k = np.arange(d.terms + 1, dtype=float)[:, None]
+        fit = (x[None, :] * _kapteyn_table(k, x) * (3 + 2 * d.norm_Y) <= 2.0**-66)
+        fit[-1] = True
+        return np.maximum(np.argmax(fit, axis=0), 2)
+
+    def values(self, terms: BesselTerms, s: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x (order 0) or v (order 1) at b + s for each s in [0, H), shape (len(s), n), a
+        bound per time on the error of the coefficients and of the float64 sum, and one in N
+        on ∫_0^s N(p' − Ap) with the series cut after K(s) terms (module notes)."""
         d = self.data
         n, K = d.n, d.terms
+        cut = self.cutoffs(s)
+        top = int(cut.max(initial=2))
+        if top > terms.count:
+            raise ValueError("the step's terms stop before a time's cutoff")
         coef, coef_error = value_coefficients(s, d.a, d.c, d.X, K)
-        part = terms.hi[1:K + 2, :n] if order == 0 else terms.hi[1:K + 2, n:]
-        sup = terms.sup_x if order == 0 else terms.sup_v
-        blocks = range(0, K + 1, _BLOCK)
+        coef = coef[:top + 1]
+        coef[np.arange(top + 1)[:, None] > cut[None, :]] = 0.0
+        part = terms.hi[1:top + 2, :n] if order == 0 else terms.hi[1:top + 2, n:]
+        sup = (terms.sup_x if order == 0 else terms.sup_v)[:top + 1]
         total = np.zeros((n, s.size))
-        for start in blocks:
-            stop = min(start + _BLOCK, K + 1)
+        for start in range(0, top + 1, _BLOCK):
+            stop = min(start + _BLOCK, top + 1)
             total += columns_product(part[start:stop].T, coef[start:stop])
-        count = len(blocks)
-        gamma = (min(_BLOCK, K + 1) + count + 2) * U / (1 - (_BLOCK + count + 2) * U)
+        count = -(-(cut + 1) // _BLOCK)
+        L = np.minimum(_BLOCK, cut + 1) + count + 2
+        gamma = L * U / (1 - L * U)
         # sums down the terms by cumsum: a time's bound is its own column's sequential sum
         rounding = gamma * np.cumsum(sup[:, None] * np.abs(coef), axis=0)[-1] \
-            + coef_error * math.sqrt(float(sup @ sup))
+            + coef_error * np.sqrt(np.cumsum(sup * sup)[cut])
         if order == 0:            # (unit·x) back to x: exact
             total *= 1 / d.unit
             rounding = rounding / d.unit
-        return total.T, rounding * (1 + 1e-9) + _TINY
+        # the defect up to s, cut after K(s) terms: weights from x = ν_c·s
+        x = 2 * s / d.a * (1 + 1e-12)
+        k = np.arange(top + 2, dtype=float)[:, None]
+        weight = np.minimum(_landau_table(x)[None, :], x[None, :] * _kapteyn_table(k, x))
+        rows = np.arange(top + 1)[:, None] < cut[None, :]          # f_{k+1}, k < K(s)
+        made = min(top + 1, terms.count)
+        rnd = np.zeros(top + 1)
+        rnd[:made] = terms.rounding[1:made + 1]
+        energy = terms.energy
+        w_cut = weight[cut, np.arange(s.size)]
+        w_next = weight[cut + 1, np.arange(s.size)]
+        local = (np.cumsum(np.where(rows, weight[:top + 1] * rnd[:, None], 0.0), axis=0)[-1]
+                 + w_next * energy[cut] + w_cut * (2 * d.norm_Y * energy[cut] + energy[cut - 1])) * _MARGIN
+        return total.T, rounding * (1 + 1e-9) + _TINY, local
+
+
+def _kapteyn_table(k: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """kapteyn(k, x) for arrays (k a column, x a row)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(k > 0, x[None, :] / np.maximum(k, 1), 0.0)
+        root = np.sqrt(np.maximum(1 - z * z, 0.0))
+        bound = np.exp(k * (np.log(z) + root - np.log1p(root))) * 1.001
+    return np.where((k <= x[None, :]) | (k == 0), 1.0, np.minimum(np.nan_to_num(bound, nan=0.0), 1.0))
+
+
+def _landau_table(x: np.ndarray) -> np.ndarray:
+    """landau(x) for an array."""
+    c = 0.7858
+    knee = c**3
+    return np.where(x <= knee, x, (knee + 1.5 * c * (np.maximum(x, knee) ** (2 / 3) - knee ** (2 / 3))) * 1.001)
 
 
 def value_coefficients(s: np.ndarray, a: float, c: float, X: float, K: int) -> tuple[np.ndarray, np.ndarray]:
@@ -526,9 +609,12 @@ class BesselMotion(KrylovMotion):
     error is carried are :class:`.krylov_march.KrylovMotion`'s; X_j = √R·E_j here, the
     scene being held by the ground)."""
 
+    data: BesselData  # type: ignore[assignment]
+    stepper: BesselStepper  # type: ignore[assignment]
+
     def __init__(self, data: BesselData) -> None:
-        self.data = data  # type: ignore[assignment]
-        self.stepper = BesselStepper(data)  # type: ignore[assignment]
+        self.data = data
+        self.stepper = BesselStepper(data)
         self.H = data.H
         self.m = data.terms
         zh, zl = data.z0
@@ -542,41 +628,66 @@ class BesselMotion(KrylovMotion):
     def _next(self, j: int, state: Any, terms: Any) -> Any:
         d = self.data
         _, _, E, _ = state
-        zh, zl, sum_energy = self.stepper.advance(terms)  # type: ignore[misc]
+        zh, zl, sum_energy = self.stepper.advance(terms)
         energy = (E + terms.local + sum_energy) * (1 + 1e-12)
         following = (zh, zl, energy, d.compliance * energy * (1 + 1e-12))
         self._store(j + 1, following)
         return following
 
     def _bound(self, state: Any, terms: Any, s: np.ndarray, rounding: np.ndarray,
-               order: int) -> np.ndarray:
+               order: int, local: Any = None) -> np.ndarray:
+        """The bound of a value at b + s: the carried error and the defect up to s (in N,
+        through √R for x and 1/√m_min for x'), and the value's own rounding."""
         d = self.data
-        E = state[2] + terms.local
+        E = state[2] + (terms.local if local is None else local)
         if order == 0:
             carried = d.compliance * E
         else:
             carried = E / math.sqrt(d.m_min)
         return (carried + rounding) * (1 + 1e-12) + _TINY
 
+    def _walk(self, steps: np.ndarray, last_count: int | None = None) -> Any:
+        """Yield (j, state, terms) for each step j of ``steps`` (sorted); the last step's
+        terms stop at ``last_count`` and the march does not go past it."""
+        base = self._keys[bisect.bisect_right(self._keys, int(steps[0])) - 1]
+        j, state = base, self._checkpoints[base]
+        last = int(steps[-1])
+        for wanted in steps:
+            while j < wanted:
+                state = self._next(j, state, self.stepper.terms(state[0], state[1]))
+                j += 1
+            count = last_count if wanted == last else None
+            terms = self.stepper.terms(state[0], state[1], count)
+            yield j, state, terms
+            if wanted != last:
+                state = self._next(j, state, terms)
+                j += 1
+
+    def _last_count(self, hi: np.ndarray, step: np.ndarray, last: int) -> int:
+        s = hi[step == last] - last * self.H
+        return int(self.stepper.cutoffs(s).max(initial=2))
+
     def _fill(self, hi: np.ndarray, step: np.ndarray, wanted: np.ndarray, order: int,
               values: np.ndarray, bounds: np.ndarray) -> None:
-        for j, state, terms in self._walk(wanted):
+        last = self._last_count(hi, step, int(wanted[-1]))
+        for j, state, terms in self._walk(wanted, last):
             columns = np.flatnonzero(step == j)
             s = hi[columns] - j * self.H          # exact (Sterbenz, or j = 0)
-            found, rounding = self.stepper.values(terms, s, order)
+            found, rounding, local = self.stepper.values(terms, s, order)
             values[:, columns] = found.T
-            bounds[:, columns] = self._bound(state, terms, s, rounding, order)[None, :]
+            bounds[:, columns] = self._bound(state, terms, s, rounding, order, local)[None, :]
 
     def _fill_acceleration(self, hi: np.ndarray, step: np.ndarray, wanted: np.ndarray,
                            values: np.ndarray, bounds: np.ndarray) -> None:
         d = self.data
-        for j, state, terms in self._walk(wanted):
+        last = self._last_count(hi, step, int(wanted[-1]))
+        for j, state, terms in self._walk(wanted, last):
             columns = np.flatnonzero(step == j)
             s = hi[columns] - j * self.H
-            x, round_x = self.stepper.values(terms, s, 0)
-            v, round_v = self.stepper.values(terms, s, 1)
-            bx = self._bound(state, terms, s, round_x, 0)
-            bv = self._bound(state, terms, s, round_v, 1)
+            x, round_x, local = self.stepper.values(terms, s, 0)
+            v, round_v, _ = self.stepper.values(terms, s, 1)
+            bx = self._bound(state, terms, s, round_x, 0, local)
+            bv = self._bound(state, terms, s, round_v, 1, local)
             states = np.concatenate([x, v], axis=1).T
             values[:, columns] = -(d.matrix @ states)
             size = abs(d.matrix) @ np.abs(states)
