@@ -73,6 +73,8 @@ __all__ = ["BesselData", "BesselMotion", "BesselStepper", "bessel_data", "kaptey
 _TINY = 1e-300
 #: Unit roundoff of the long double the values' coefficients are formed in.
 _UL = float(np.finfo(np.longdouble).eps) / 2
+#: π in the long double (np.pi is float64's, off by 1.2e-16 of itself).
+_PI = np.longdouble("3.14159265358979323846264338327950288")
 #: Terms per block of the values' float64 sum.
 _BLOCK = 16
 
@@ -235,8 +237,8 @@ def bessel_data(scene: Scene) -> BesselData | None:
     norm_Y = (nu + c / a) * a / 2 * (1 + 4 * U) * _MARGIN
     kappa = [kapteyn(k, X) for k in range(int(3 * X) + 200)]
     terms = next(k for k in range(1, len(kappa) - 1)
-                 if X * kappa[k] * (3 + 2 * norm_Y) <= 2.0**-66)
-    extended = next(k for k in range(terms + 1) if X * kappa[k] <= 2.0**-14)
+                 if X * kappa[k] * (3 + 2 * norm_Y) <= 2.0**-62)
+    extended = next(k for k in range(terms + 1) if X * kappa[k] <= 2.0**-12)
     extended = min(extended, terms)
     coef_hi, coef_lo, coef_error = _state_coefficients(H, a, c, terms)
     b_pattern = _pattern(n, np.concatenate([K.rows, C.rows]), np.concatenate([K.cols, C.cols + n]))
@@ -466,7 +468,10 @@ class BesselStepper:
         np.subtract(lead, e, out=e)
         np.subtract(low, scratch, out=scratch)
         np.add(e, scratch, out=e)
-        norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
+        # |w₂| ≤ half the grid 2^(E−b), |w_lo| ≤ u|w| (no norms of the slices formed)
+        slices = math.sqrt(2 * m) * math.ldexp(1.0, exponent - D.bits - 1)
+        norm_c = (1 + U) * (slices + U * norm_w * (1 + U))
+        norm_1 = norm_w * (1 + 1e-12) + slices
         return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
                 + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12) + _TINY * math.sqrt(m * self.data.m_max)
 
@@ -509,11 +514,11 @@ class BesselStepper:
     # -- values inside the step --------------------------------------------------------
     def cutoffs(self, s: np.ndarray) -> np.ndarray:
         """K(s): the terms a value at b + s uses (x = ν_c·s), the first k with
-        x·κ_k(x)·(3 + 2‖Y‖) ≤ 2^-66, at least 2; a function of s alone."""
+        x·κ_k(x)·(3 + 2‖Y‖) ≤ 2^-62, at least 2; a function of s alone."""
         d = self.data
         x = 2 * s / d.a * (1 + 1e-12)
         k = np.arange(d.terms + 1, dtype=float)[:, None]
-        fit = (x[None, :] * _kapteyn_table(k, x) * (3 + 2 * d.norm_Y) <= 2.0**-66)
+        fit = (x[None, :] * _kapteyn_table(k, x) * (3 + 2 * d.norm_Y) <= 2.0**-62)
         fit[-1] = True
         return np.maximum(np.argmax(fit, axis=0), 2)
 
@@ -582,10 +587,16 @@ def value_coefficients(s: np.ndarray, a: float, c: float, X: float, K: int) -> t
     bound per time on ‖ĉ(s) − c(s)‖₂: J_k by the trapezoidal rule on N ≥ 2K + 4 points (an
     FFT in long double; aliasing ≤ 4·κ_{N−K}), the phases x·sin θ_j off by 3u_L·x."""
     N = 1 << max(6, math.ceil(math.log2(2 * K + 4)))
-    theta = 2 * np.pi * np.arange(N, dtype=np.longdouble) / N
+    q = N // 4
+    j = np.arange(q + 1)
+    theta = 2 * _PI * j.astype(np.longdouble) / N
     x = 2 * s.astype(np.longdouble) / np.longdouble(a)
     phase = x[:, None] * np.sin(theta)[None, :]
-    y = np.cos(phase) + 1j * np.sin(phase)
+    cos, sin = np.cos(phase), np.sin(phase)
+    # sin θ_j on the other three quarters by symmetry: the same numbers, signs flipped
+    y = np.empty((s.size, N), dtype=np.clongdouble)
+    for index, sign in ((j, 1), (N // 2 - j, 1), (N // 2 + j, -1), ((N - j) % N, -1)):
+        y[:, index] = cos + 1j * (sign * sin)
     J = np.fft.fft(y, axis=1)[:, :K + 1].real / N
     damp = np.exp(-(np.longdouble(c) / np.longdouble(a)) * s.astype(np.longdouble))
     scaled = J * damp[:, None]

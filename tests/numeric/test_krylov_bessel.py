@@ -116,3 +116,32 @@ def test_a_time_alone_gives_the_same_bits(case) -> None:
     for k in (0, 5, len(times) - 1):
         alone, bound = krylov_motion(scene).evaluate(times[k:k + 1])
         assert np.array_equal(alone[:, 0], values[:, k]) and bound[0, 0] == bounds[0, k]
+
+
+@pytest.mark.parametrize(("a", "c", "H", "times"), [
+    (0.25, 0.0, 3.25, [0.0, 0.7, 3.2]),
+    (0.28125, 0.015625, 9.0, [0.1, 4.4, 8.9]),
+])
+def test_coefficients_within_their_bounds_against_mpmath(a: float, c: float, H: float, times) -> None:
+    """The values' coefficients (long-double FFT) and the next state's (arb) against
+    ε_k e^{−δs} J_k(2s/a) in mpmath at 40 digits."""
+    import mpmath
+
+    from laplace_springs.numeric.krylov_bessel import _state_coefficients, kapteyn, value_coefficients
+
+    X = 2 * H / a
+    K = next(k for k in range(1, 1000) if X * kapteyn(k, X) * 5 <= 2.0**-62)
+    s = np.array(times)
+    coef, bound = value_coefficients(s, a, c, X, K)
+    with mpmath.workdps(40):
+        def exact(t: float, k: int) -> object:
+            x = mpmath.mpf(2) * mpmath.mpf(t) / mpmath.mpf(a)
+            damp = mpmath.exp(-mpmath.mpf(c) / mpmath.mpf(a) * mpmath.mpf(t))
+            return damp * (1 if k == 0 else 2) * mpmath.besselj(k, x)
+
+        for i, t in enumerate(times):
+            error = mpmath.sqrt(sum((mpmath.mpf(coef[k, i]) - exact(t, k)) ** 2 for k in range(K + 1)))
+            assert error <= bound[i]
+        hi, lo, err = _state_coefficients(H, a, c, K)
+        for k in range(K + 1):
+            assert abs(mpmath.mpf(hi[k]) + mpmath.mpf(lo[k]) - exact(H, k)) <= err[k] + mpmath.mpf(10) ** -38
