@@ -9,6 +9,12 @@ is about 12 sparse products per unit of t·ν at θ = 5 (a double-double term co
 independent of the number of output times, which each cost one float64 sum of the step's
 terms.
 
+Scenes held by the ground (compliance √R finite) whose damping is light against ν take
+long Chebyshev (Bessel) steps instead, X = ν_c·H up to Limits.krylov_bessel_norm = 64,
+about two products per unit of t·ν_c with the values cut per time
+(:mod:`.krylov_bessel`: the bound from the motion's defect, carried from step to step the
+same way as below).
+
 The error bound (:meth:`KrylovMotion.evaluate`)
 -----------------------------------------------
 It rests on the energy seminorm N(z)² = vᵀMv + xᵀKx, which the exact motion never
