@@ -468,10 +468,7 @@ class BesselStepper:
         np.subtract(lead, e, out=e)
         np.subtract(low, scratch, out=scratch)
         np.add(e, scratch, out=e)
-        # |w₂| ≤ half the grid 2^(E−b), |w_lo| ≤ u|w| (no norms of the slices formed)
-        slices = math.sqrt(2 * m) * math.ldexp(1.0, exponent - D.bits - 1)
-        norm_c = (1 + U) * (slices + U * norm_w * (1 + U))
-        norm_1 = norm_w * (1 + 1e-12) + slices
+        norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
         return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
                 + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12) + _TINY * math.sqrt(m * self.data.m_max)
 
