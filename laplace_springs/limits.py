@@ -120,15 +120,24 @@ class Limits:
     #: the scale) and takes about 2 double-double terms fewer per step than 2^-60.
     krylov_step_error: float = 2.0**-58
     #: Largest X = ν_c·H of a long Bessel step of the krylov engine (its Chebyshev path for
-    #: scenes held by the ground; 0 turns it off): 124 products a step at 64, about 90 of
-    #: them in double-double.
-    krylov_bessel_norm: float = 64.0
+    #: scenes held by the ground; 0 turns it off): 160 products a step at 96, 121 of them
+    #: in double-double (122 and 87 at 64; the 4,000-mass mesh of bench_krylov 8% faster
+    #: at 96, the 1,000-mass one 2% slower).
+    krylov_bessel_norm: float = 96.0
     #: Largest d·H of a Bessel step (d ≥ ‖M^{-1/2}CM^{-1/2}‖): its terms grow about like
-    #: e^{d·H}, and so do the bounds on their rounding.
+    #: e^{d·H} at worst, and so do the bounds on their rounding (at 6 a random 6-mass
+    #: network of tests/numeric/test_krylov.py took X = 38 and a bound of 1.5e-13, against
+    #: Taylor's 6.5e-16).
     krylov_bessel_growth: float = 4.0
     #: Shortest X of a Bessel step: below it, Taylor's steps (fewer products per term's
     #: double-double split) are about as cheap.
     krylov_bessel_min_norm: float = 32.0
+    #: The Bessel steps' shift δ as a fraction of d/2 (d ≥ ‖M^{-1/2}CM^{-1/2}‖). 1 centres
+    #: the field of values' real range, but most modes of a lightly damped network sit near
+    #: the imaginary axis and the shift moves them off it: on the meshes of bench_krylov
+    #: δ = 0 was 5-7% faster with bounds 1.2e-14 against 1.3e-14 (4,000 masses) and 1.4e-14
+    #: against 6.9e-14 (10,000).
+    krylov_bessel_shift: float = 0.0
     #: Most float64 numbers the krylov engine keeps as checkpoints of its march (each step's
     #: starting state, 4n numbers): later calls restart from the nearest one (256 MB).
     krylov_checkpoint_floats: int = 32_000_000

@@ -31,9 +31,10 @@ coefficients from python-flint's arb (double-doubles) and an exactly split sum.
 
 Used when the scene is held by the ground (compliance √R finite, so |x_i| ≤ √R·N) and
 its damping is light against ν: the terms grow like Ť_k off the segment [−i, i], about
-(1 + d/(2ν_c))^k with the shift δ = d/2 (d ≥ ‖M^{-1/2}CM^{-1/2}‖), so a step is kept to
-d·H ≤ Limits.krylov_bessel_growth and the path is left to Taylor's steps where that makes
-X = ν_c·H < 16.
+(1 + d/ν_c)^k at worst (d ≥ ‖M^{-1/2}CM^{-1/2}‖; δ = Limits.krylov_bessel_shift·d/2,
+0 by default: most modes of a lightly damped network sit near the imaginary axis), so a
+step is kept to d·H ≤ Limits.krylov_bessel_growth and the path is left to Taylor's steps
+where that makes X = ν_c·H < Limits.krylov_bessel_min_norm.
 """
 
 from __future__ import annotations
@@ -198,7 +199,8 @@ def bessel_data(scene: Scene) -> BesselData | None:
         raise FloatRangeError("M, C or K has an entry beyond what the krylov engine holds in "
                               "float64 (1e150)")
     a = _short(2 / nu)
-    c = _short(a * d / 2) if d > 0 else 0.0
+    delta = limits().krylov_bessel_shift * d / 2
+    c = _short(a * delta) if delta > 0 else 0.0
     if c < a * 2.0**-30:
         c = 0.0
     # X ≤ Limits.krylov_bessel_norm, and d·H ≤ Limits.krylov_bessel_growth: the terms
