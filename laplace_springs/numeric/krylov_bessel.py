@@ -67,7 +67,7 @@ from .krylov_data import (
 )
 from .krylov_entries import entries_of, scene_refusal, spectral_bound
 from .krylov_march import KrylovMotion
-from .krylov_steps import _csr_into, _csr_kernel
+from .krylov_steps import _csr_into, _csr_kernel, split_product
 
 __all__ = ["BesselData", "BesselMotion", "BesselStepper", "bessel_data", "kapteyn"]
 
@@ -452,27 +452,9 @@ class BesselStepper:
             self.hi[k + 2] = 0.0
             self.lo[k + 2] = 0.0
             return 0.0
-        _, exponent = math.frexp(largest)
-        sigma = math.ldexp(1.5, exponent - D.bits + 52)
-        rest = self._rest
-        w1, c = rest[:2 * m], rest[2 * m:]
-        np.add(wh, sigma, out=w1)
-        np.subtract(w1, sigma, out=w1)
-        np.subtract(wh, w1, out=c)
-        np.add(c, wl, out=c)
-        lead, low, scratch = self._lead, self._low, self._scratch
-        _csr_into(D.sliced, w1, lead, self._kernel)
-        _csr_into(D.rest, rest, low, self._kernel)
-        s, e = self.hi[k + 2], self.lo[k + 2]
-        np.add(lead, low, out=s)
-        np.subtract(s, lead, out=scratch)
-        np.subtract(s, scratch, out=e)
-        np.subtract(lead, e, out=e)
-        np.subtract(low, scratch, out=scratch)
-        np.add(e, scratch, out=e)
-        norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
-        return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
-                + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12) + _TINY * math.sqrt(m * self.data.m_max)
+        return split_product(D, wh, wl, largest, norm_w, (self.hi[k + 2], self.lo[k + 2]),
+                             (self._rest, self._lead, self._low, self._scratch), self._kernel) \
+            + _TINY * math.sqrt(m * self.data.m_max)
 
     # -- the next state ----------------------------------------------------------------
     def advance(self, terms: BesselTerms) -> tuple[np.ndarray, np.ndarray, float]:

@@ -53,7 +53,7 @@ from ..kernels.dd import U, dd_add, from_exact, two_sum
 from ..limits import limits
 from .krylov_data import KrylovData, StepMatrix
 
-__all__ = ["Stepper", "StepTerms", "tail"]
+__all__ = ["Stepper", "StepTerms", "split_product", "tail"]
 
 #: An absolute bound per entry for underflow in the exact products (values below 1e-300
 #: of the scale are far below any target).
@@ -107,6 +107,38 @@ def _csr_into(matrix: Any, vector: np.ndarray, out: np.ndarray, kernel: Any) -> 
         return
     out.fill(0.0)
     kernel(matrix.shape[0], matrix.shape[1], matrix.indptr, matrix.indices, matrix.data, vector, out)
+
+
+def split_product(D: StepMatrix, wh: np.ndarray, wl: np.ndarray, largest: float, norm_w: float,
+                  out: tuple[np.ndarray, np.ndarray],
+                  buffers: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                  kernel: Any) -> float:
+    """D·(wh + wl) to about 2^-70 (module notes) as the double-double ``out`` = (hi, lo):
+    the leading slices of wh (exact at the scale of ``largest`` = max|wh|) times D's sliced
+    part, the rest in float64, joined by a two-sum in place. ``buffers`` are (rest, lead,
+    low, scratch) of the right sizes. Returns the bound on the product's rounding in N
+    (``norm_w`` ≥ N(w)), without the underflow floor."""
+    rest, lead, low, scratch = buffers
+    _, exponent = math.frexp(largest)
+    sigma = math.ldexp(1.5, exponent - D.bits + 52)
+    half = wh.size
+    w1, c = rest[:half], rest[half:]
+    np.add(wh, sigma, out=w1)
+    np.subtract(w1, sigma, out=w1)          # the leading slices: exact
+    np.subtract(wh, w1, out=c)              # w₂, exact
+    np.add(c, wl, out=c)                    # w₂ + w_lo, rounded
+    _csr_into(D.sliced, w1, lead, kernel)
+    _csr_into(D.rest, rest, low, kernel)
+    s, e = out                              # two-sum of lead + low, in place
+    np.add(lead, low, out=s)
+    np.subtract(s, lead, out=scratch)
+    np.subtract(s, scratch, out=e)
+    np.subtract(lead, e, out=e)
+    np.subtract(low, scratch, out=scratch)
+    np.add(e, scratch, out=e)
+    norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
+    return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
+            + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12)
 
 
 class Stepper:
@@ -219,27 +251,8 @@ class Stepper:
         wl = self.lo[k - 1:k + 1].reshape(-1)
         largest = max(self._sup[k - 1], self._sup[k])
         norm_w = math.hypot(self._norms[k - 1], self._norms[k])
-        _, exponent = math.frexp(largest)
-        sigma = math.ldexp(1.5, exponent - D.bits + 52)
-        rest = self._rest
-        w1, c = rest[:2 * n], rest[2 * n:]
-        np.add(wh, sigma, out=w1)
-        np.subtract(w1, sigma, out=w1)          # the leading slices: exact
-        np.subtract(wh, w1, out=c)              # w₂, exact
-        np.add(c, wl, out=c)                    # w₂ + w_lo, rounded
-        lead, low, scratch = self._lead, self._low, self._scratch
-        _csr_into(D.sliced, w1, lead, self._kernel)
-        _csr_into(D.rest, rest, low, self._kernel)
-        s, e = self.hi[k + 1], self.lo[k + 1]   # two-sum of lead + low, in place
-        np.add(lead, low, out=s)
-        np.subtract(s, lead, out=scratch)
-        np.subtract(s, scratch, out=e)
-        np.subtract(lead, e, out=e)
-        np.subtract(low, scratch, out=scratch)
-        np.add(e, scratch, out=e)
-        norm_1, norm_c = math.sqrt(float(w1 @ w1)), math.sqrt(float(c @ c))
-        return (D.rest_lead * norm_1 + D.rest_hi * ((1 + U) * norm_c + 2 * U * norm_w)
-                + 2.0**-103 * D.beta * norm_w) * (1 + 1e-12) \
+        return split_product(D, wh, wl, largest, norm_w, (self.hi[k + 1], self.lo[k + 1]),
+                             (self._rest, self._lead, self._low, self._scratch), self._kernel) \
             + _TINY * math.sqrt(n * self.data.m_max)
 
     # -- the next state ----------------------------------------------------------------
