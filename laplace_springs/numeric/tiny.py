@@ -351,10 +351,10 @@ class TinyMotion:
             if not math.isfinite(float(values.sum()) + float(bounds.sum())):
                 bounds = np.where(np.isfinite(values) & np.isfinite(bounds), bounds, np.inf)
         if not t.all():  # x^(order)(0) is the initial data: exactly, rounded once
-            start = np.flatnonzero(t == 0)
-            initial = self.data.initial(order)
-            values[:, start] = initial[:, None]
-            bounds[:, start] = (U * np.abs(initial))[:, None]
+            start = t == 0
+            initial = self.data.initial(order)[:, None]
+            values[:, start] = initial
+            bounds[:, start] = U * np.abs(initial)
         return values, bounds
 
     def largest_bound(self, t: np.ndarray) -> float:

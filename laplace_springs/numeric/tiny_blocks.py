@@ -85,19 +85,22 @@ _MAX_THETA = 0.5
 _SAFETY = 1.02
 
 
+#: NumPy's LAPACK gufuncs (``numpy.linalg._umath_linalg``), where this NumPy has them: the
+#: same routines and numbers as ``numpy.linalg.eig``, ``inv`` and ``svd`` without their
+#: 10-25 µs of argument checks (the matrices here are finite and square).
+_LINALG = getattr(np.linalg, "_umath_linalg", None)
+
+
 def _norm(a: np.ndarray) -> float:
     """The Frobenius norm (an upper bound of the 2-norm)."""
     return math.sqrt(float(np.vdot(a, a).real))
 
 
 def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``numpy.linalg.eig`` of a real matrix (complex eigenvalues and unit eigenvectors).
-
-    Calls NumPy's LAPACK gufunc (``dgeev``) directly where it exists: the same routine
-    and the same numbers as ``numpy.linalg.eig``, without its 25 µs of argument checks
-    (Z is finite and square here). A failure shows as non-finite eigenvalues.
-    """
-    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "eig", None)
+    """``numpy.linalg.eig`` of a real matrix (complex eigenvalues and unit eigenvectors),
+    by LAPACK's ``dgeev`` directly where NumPy exposes it. A failure shows as non-finite
+    eigenvalues."""
+    gufunc = getattr(_LINALG, "eig", None)
     if gufunc is None:
         return np.linalg.eig(Z)
     w, V = gufunc(Z, signature="d->DD")
@@ -105,9 +108,8 @@ def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _inv(X: np.ndarray) -> np.ndarray | None:
-    """X⁻¹ (complex) by NumPy's LAPACK gufunc where it exists (as ``numpy.linalg.inv``),
-    or None when X is singular or the inverse is not finite."""
-    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "inv", None)
+    """X⁻¹ (complex), or None when X is singular or the inverse is not finite."""
+    gufunc = getattr(_LINALG, "inv", None)
     try:
         Y = np.linalg.inv(X) if gufunc is None else gufunc(X, signature="D->D")
     except np.linalg.LinAlgError:
@@ -116,21 +118,14 @@ def _inv(X: np.ndarray) -> np.ndarray | None:
 
 
 def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``numpy.linalg.svd`` (full matrices), by its LAPACK gufunc where it exists."""
-    gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "svd_f", None)
+    """``numpy.linalg.svd`` (full matrices)."""
+    gufunc = getattr(_LINALG, "svd_f", None)
     if gufunc is None:
         u, s, vh = np.linalg.svd(P)
         return u, s, vh
     signature = "d->ddd" if P.dtype.kind == "f" else "D->DdD"
     u, s, vh = gufunc(P, signature=signature)
     return u, s, vh
-
-
-def _exact_float(value: Any) -> tuple[float, float]:
-    """An fmpq as hi + lo: hi correctly rounded, lo the rounded remainder (0 when exact)."""
-    hi = float(value)
-    low = value - fmpq(*hi.as_integer_ratio())
-    return hi, (float(low) if low else 0.0)
 
 
 _EYES: dict[int, np.ndarray] = {}
@@ -142,23 +137,53 @@ def _eye(size: int) -> np.ndarray:
     return _EYES[size]
 
 
+def _first_order(n: int, A: dict[tuple[int, int], Any],
+                 B: dict[tuple[int, int], Any]) -> tuple[float, np.ndarray, np.ndarray | None]:
+    """(σ, Z, Z_lo): σ a power of two near the frequency scale and Z = [[0, σI],
+    [−A/σ, −B]] as hi + lo, hi the entries correctly rounded and lo their rounded
+    remainders (Z_lo None when every entry is a float64 number). Scaling by σ is exact:
+    the entries are within Limits.tiny_max_magnitude^{±1}, far from under- and overflow."""
+    size = 2 * n
+    places = [(n + i, j) for i, j in A] + [(n + i, n + j) for i, j in B]
+    exact = [*A.values(), *B.values()]
+    high = [float(value) for value in exact]
+    stiff = len(A)
+    largest = max(map(abs, high[:stiff]), default=0.0)
+    damping = max(map(abs, high[stiff:]), default=0.0)
+    scale = max(math.sqrt(largest), damping / 2)
+    sigma = 2.0 ** round(math.log2(scale)) if 0 < scale < math.inf else 1.0
+    factors = [-1 / sigma] * stiff + [-1.0] * (len(exact) - stiff)
+    hi = [[0.0] * size for _ in range(size)]
+    for i in range(n):
+        hi[i][n + i] = sigma
+    lo: list[list[float]] | None = None
+    for (i, j), value, rounded, factor in zip(places, exact, high, factors):
+        hi[i][j] = rounded * factor
+        if value.q != 1:
+            low = value - fmpq(*rounded.as_integer_ratio())
+            if low:
+                lo = lo or [[0.0] * size for _ in range(size)]
+                lo[i][j] = float(low) * factor
+    return sigma, np.array(hi), None if lo is None else np.array(lo)
+
+
 class _Block:
-    """One block of B on ``columns`` of X: 1 x 1 (the rate ``mu``) or 2 x 2 (μI + N with
-    d = −det N, ``d_error`` its rounding). ``weight`` is 2 for the upper member of a
-    conjugate pair, whose partner is not evaluated (``skip``); ``real`` blocks have real
-    columns and coefficients. ``nu`` = ‖N‖_F, ``root`` = √d (the eigenvalues are μ ± √d)
-    and ``growth`` (their largest real part) are computed once."""
+    """A 2 x 2 block μI + N of B on ``columns`` of X (d = −det N, ``d_error`` its
+    rounding). ``weight`` is 2 for the upper member of a conjugate pair, whose partner is
+    not evaluated (``skip``); a ``real`` block has real columns and coefficients. ``nu`` =
+    ‖N‖_F, ``root`` = √d (the eigenvalues are μ ± √d) and ``growth`` (their largest real
+    part) are computed once."""
 
     __slots__ = ("columns", "mu", "N", "d", "d_error", "weight", "skip", "real", "nu", "root",
                  "growth")
 
-    def __init__(self, columns: tuple[int, ...], mu: complex, N: np.ndarray | None = None,
-                 d: complex = 0j, d_error: float = 0.0, *, weight: int = 1,
-                 skip: bool = False, real: bool = False) -> None:
+    def __init__(self, columns: tuple[int, int], mu: complex, N: np.ndarray, d: complex,
+                 d_error: float, *, weight: int = 1, skip: bool = False,
+                 real: bool = False) -> None:
         self.columns, self.mu, self.N, self.d, self.d_error = columns, complex(mu), N, d, d_error
         self.weight, self.skip, self.real = weight, skip, real
-        self.nu = 0.0 if N is None else _norm(N)
-        self.root = 0j if N is None else cmath.sqrt(d)
+        self.nu = _norm(N)
+        self.root = cmath.sqrt(d)
         self.growth = self.mu.real + abs(self.root.real)
 
 
@@ -188,43 +213,30 @@ class BlockMotion:
                  x0: np.ndarray, v0: np.ndarray) -> None:
         self.failure: str | None = None
         self.n = n
-        size = 2 * n
-        largest = max([abs(float(v)) for v in A.values()] or [0.0])
-        damping = max([abs(float(v)) for v in B.values()] or [0.0])
-        scale = max(math.sqrt(largest), damping / 2)
-        self.sigma = sigma = 2.0 ** round(math.log2(scale)) if 0 < scale < math.inf else 1.0
-        hi = [[0.0] * size for _ in range(size)]
-        lo: list[list[float]] | None = None
-        for i in range(n):
-            hi[i][n + i] = sigma
-        inverse = fmpq(*(1 / sigma).as_integer_ratio()) if sigma != 1 else None
-        for entries, column, scaled in ((A, 0, True), (B, n, False)):
-            for (i, j), entry in entries.items():
-                high, low = _exact_float(-entry * inverse if scaled and inverse is not None
-                                         else -entry)
-                hi[n + i][column + j] = high
-                if low:
-                    lo = lo or [[0.0] * size for _ in range(size)]
-                    lo[n + i][column + j] = low
-        self.Z = Z = np.array(hi)
-        self.Z_lo = None if lo is None else np.array(lo)
-        self.y0 = np.concatenate([x0, v0 / sigma])
-        w, V = _eig(Z)
+        self.sigma, self.Z, self.Z_lo = _first_order(n, A, B)
+        self.y0 = np.concatenate([x0, v0 / self.sigma])
+        w, V = _eig(self.Z)
         self.poles = w
         sizes = np.abs(w)
-        self.radius = float(sizes.max())
-        if not math.isfinite(float(sizes.sum())):
+        self.radius = float(sizes.max())  # NaN propagates
+        if not math.isfinite(self.radius):
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
         Y = _inv(V)
-        self.blocks, X = self._blocks(w, V, Y)
-        self._finish(X, Y if X is V else None)
+        X = self._layout(w, V, Y)
+        self._finish(w, sizes, X, Y if X is V else None)
 
     # -- the decomposition -------------------------------------------------------------
-    def _blocks(self, w: np.ndarray, V: np.ndarray,
-                Y: np.ndarray | None) -> tuple[list[_Block], np.ndarray]:
-        """1 x 1 blocks for well-conditioned eigenvalues, 2 x 2 blocks for defective pairs
-        (X is V itself when there are none)."""
+    def _layout(self, w: np.ndarray, V: np.ndarray, Y: np.ndarray | None) -> np.ndarray:
+        """1 x 1 blocks for well-conditioned eigenvalues, 2 x 2 blocks for defective pairs;
+        the basis X (V itself when there are no 2 x 2 blocks).
+
+        Sets ``columns`` (the evaluated 1 x 1 blocks: a real eigenvalue, the upper member
+        of a conjugate pair, or a complex term outside LAPACK's layout), their ``weights``
+        (2 for a pair: twice the real part), ``doubles`` (the 2 x 2 blocks, the skipped
+        lower twins included), and the coefficients' symmetries of a real motion:
+        ``real_columns`` (real coefficients) and ``mirrors`` ((j, i): c_j = conj c_i).
+        """
         size = w.size
         pairs: dict[int, tuple[int, int]] = {}
         # ‖row of Y‖₂ ≤ √size·max|Y_ij|: rows need measuring only beyond that
@@ -233,7 +245,11 @@ class BlockMotion:
                          else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
             pairs = self._pairs(w, condition)
         X = V.copy() if pairs else V
-        blocks: list[_Block] = []
+        columns: list[int] = []
+        weights: list[float] = []
+        self.real_columns: list[int] = []
+        self.mirrors: list[tuple[int, int]] = []
+        self.doubles: list[_Block] = []
         done: set[int] = set()
         rates: list[complex] = w.tolist()
         for j, rate in enumerate(rates):
@@ -242,19 +258,32 @@ class BlockMotion:
             if j in pairs:
                 found = self._cluster(w, pairs[j], X)
                 if found is not None:
-                    blocks += found
-                    done.update(c for b in found for c in b.columns)
+                    self._add_doubles(found, done)
                     continue
+            done.add(j)
+            columns.append(j)
             if rate.imag == 0:
-                blocks.append(_Block((j,), rate, real=True))
+                weights.append(1.0)
+                self.real_columns.append(j)
             elif rate.imag > 0 and j + 1 < size and rates[j + 1] == rate.conjugate():
-                blocks.append(_Block((j,), rate, weight=2))
-                blocks.append(_Block((j + 1,), rates[j + 1], skip=True))
+                weights.append(2.0)
+                self.mirrors.append((j + 1, j))
                 done.add(j + 1)
             else:  # not LAPACK's layout of a conjugate pair: evaluated as a complex term
-                blocks.append(_Block((j,), rate))
-            done.add(j)
-        return blocks, X
+                weights.append(1.0)
+        self.columns = np.array(columns, dtype=np.intp)
+        self.weights = np.array(weights)
+        self.rates = w[self.columns]
+        return X
+
+    def _add_doubles(self, found: list[_Block], done: set[int]) -> None:
+        self.doubles += found
+        for block in found:
+            done.update(block.columns)
+            if block.real:
+                self.real_columns += block.columns
+            elif block.weight == 2:
+                self.mirrors += [(i + 1, i) for i in block.columns]
 
     @staticmethod
     def _pairs(w: np.ndarray, condition: np.ndarray) -> dict[int, tuple[int, int]]:
@@ -308,7 +337,6 @@ class BlockMotion:
         mirror = (j + 1, k + 1)
         X[:, list(mirror)] = basis.conj()
         block.weight = 2
-        assert block.N is not None
         twin = _Block(mirror, block.mu.conjugate(), block.N.conj(), block.d.conjugate(),
                       block.d_error, skip=True)
         return [block, twin]
@@ -327,25 +355,32 @@ class BlockMotion:
         return _Block(columns, (b00 + b11) / 2, np.array([[a, b01], [b10, -a]]), d,
                       8 * U * size + 4 * U * abs(d))
 
-    def _finish(self, X: np.ndarray, Y: np.ndarray | None) -> None:
+    def _block_matrix(self, w: np.ndarray) -> tuple[np.ndarray | None, float]:
+        """B as a matrix (None when it is diag(w): no 2 x 2 blocks) and ‖μI + N − B‖, the
+        rounding of μ and a on the 2 x 2 blocks."""
+        if not self.doubles:
+            return None, 0.0
+        B = np.diag(w)
+        moved = 0.0
+        for block in self.doubles:
+            (i, j), N = block.columns, block.N
+            B[i, i], B[j, j] = block.mu + N[0, 0], block.mu + N[1, 1]
+            B[i, j], B[j, i] = N[0, 1], N[1, 0]
+            moved = max(moved, 2 * U * (abs(block.mu) + abs(N[0, 0])))
+        return B, moved
+
+    def _times_B(self, P: np.ndarray) -> np.ndarray:
+        """P·B (B diagonal: a scaling of P's columns)."""
+        return P * self.poles if self.B is None else P @ self.B
+
+    def _finish(self, w: np.ndarray, sizes: np.ndarray, X: np.ndarray,
+                Y: np.ndarray | None) -> None:
         """Coefficients, residuals and the constants of the bound. The rounding of each
         product is bounded through norms (‖|A||B|‖_F ≤ ‖A‖_F‖B‖_F)."""
         size = X.shape[0]
         self.X = X
-        blocks = self.blocks
-        B = np.zeros((size, size), dtype=complex)
-        moved = 0.0  # ‖μI + N − B‖: the rounding of μ and a on the 2 x 2 blocks
-        for block in blocks:
-            if block.N is None:
-                B[block.columns[0], block.columns[0]] = block.mu
-            else:
-                (i, j), N = block.columns, block.N
-                B[i, i], B[j, j] = block.mu + N[0, 0], block.mu + N[1, 1]
-                B[i, j], B[j, i] = N[0, 1], N[1, 0]
-                moved = max(moved, 2 * U * (abs(block.mu) + abs(N[0, 0])))
-        diagonal = B.diagonal() if all(block.N is None for block in blocks) else None
-        self.B = B
-        B_norm = _norm(B)
+        self.B, moved = self._block_matrix(w)
+        B_norm = math.sqrt(float(sizes @ sizes)) if self.B is None else _norm(self.B)
         self.B_rounding = U * B_norm
         if Y is None:
             Y = _inv(X)
@@ -358,27 +393,25 @@ class BlockMotion:
         Z_long = self.Z.astype(np.longdouble)
         if self.Z_lo is not None:
             Z_long += self.Z_lo
-        XB = X_long * diagonal if diagonal is not None else X_long @ B
-        R = (Z_long @ X_long - XB).astype(complex)
+        R = (Z_long @ X_long - self._times_B(X_long)).astype(complex)
         product = Y @ np.concatenate((self.y0[:, None], X, R), axis=1)
         coefficients: list[complex] = product[:, 0].tolist()
-        for block in blocks:  # the coefficients of a real motion
-            for i in block.columns:
-                if block.real:
-                    coefficients[i] = complex(coefficients[i].real)
-                elif block.weight == 2:
-                    coefficients[i + 1] = coefficients[i].conjugate()
+        for i in self.real_columns:  # the coefficients of a real motion
+            coefficients[i] = complex(coefficients[i].real)
+        for j, i in self.mirrors:
+            coefficients[j] = coefficients[i].conjugate()
         self.c = c = np.array(coefficients)
         X_norm, Y_norm, R_norm = _norm(X), _norm(Y), _norm(R)
+        misfit, F_norm = _norm(_eye(size) - product[:, 1:size + 1]), _norm(product[:, size + 1:])
         gamma = (2 * size + 4) * U
-        theta = _norm(_eye(size) - product[:, 1:size + 1]) + gamma * Y_norm * X_norm
+        theta = misfit + gamma * Y_norm * X_norm
         if not theta < _MAX_THETA:
             self.failure = f"the basis is too ill-conditioned (‖I − X⁻¹X‖ = {theta:.2g})"
             return
         inverse = Y_norm / (1 - theta)  # ≥ ‖X⁻¹‖₂
         R_error = ((2 * size + 6) * _U_LONG * (_norm(self.Z) + B_norm) * X_norm
                    + U * R_norm)
-        phi = (_norm(product[:, size + 1:]) + gamma * Y_norm * R_norm + Y_norm * R_error
+        phi = (F_norm + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
         c_norm, y0_norm = _norm(c), _norm(self.y0)
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
@@ -387,8 +420,10 @@ class BlockMotion:
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
         self.c_norm = c_norm
-        self.growth = max([block.growth for block in blocks])
-        self.speed = max([abs(block.mu) + block.nu for block in blocks])
+        rates = self.rates.tolist()
+        self.growth = max([block.growth for block in self.doubles] + [r.real for r in rates])
+        self.speed = max([abs(block.mu) + block.nu for block in self.doubles]
+                         + [abs(r) for r in rates])
         self._orders: dict[int, _Order] = {}
 
     # -- evaluation --------------------------------------------------------------------
@@ -397,9 +432,10 @@ class BlockMotion:
         X (order 0), σ times X's velocity rows (1), or those times B (2)."""
         if order not in self._orders:
             n, X, sigma = self.n, self.X, self.sigma
-            L = X[:n] if order == 0 else sigma * X[n:] if order == 1 else sigma * X[n:] @ self.B
+            L = X[:n] if order == 0 else sigma * X[n:] if order == 1 \
+                else self._times_B(sigma * X[n:])
             F_rows = sigma * np.sqrt((np.abs(X[n:]) ** 2).sum(axis=1)) if order == 2 else None
-            self._orders[order] = _Order(L, self.blocks, self.c, F_rows)
+            self._orders[order] = _Order(L, self, F_rows)
         return self._orders[order]
 
     def evaluate(self, t: np.ndarray, lo: np.ndarray | None,
@@ -410,17 +446,11 @@ class BlockMotion:
         if self.failure is not None:
             return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
         weights = self._order(order)
-        if weights.rates.size:
-            E = np.exp(np.multiply.outer(weights.rates.real, t))
-            phases = np.multiply.outer(weights.rates.imag, t)
-            EC, ES = E * np.cos(phases), E * np.sin(phases)
-            values = weights.real[0] * EC[0]
-            if weights.oscillating[0]:
-                values -= weights.imag[0] * ES[0]
-            for j in range(1, weights.rates.size):  # the same order of sums for every time
-                values += weights.real[j] * EC[j]
-                if weights.oscillating[j]:
-                    values -= weights.imag[j] * ES[j]
+        if self.rates.size:  # Re Σ_j g_j e^{λ_j t}, summed in the order of j for every time
+            terms = (weights.g[:, :, None] * np.exp(np.multiply.outer(self.rates, t))).real
+            values = terms[:, 0].copy()
+            for j in range(1, self.rates.size):  # (numpy's sum would pair 8 or more terms)
+                values += terms[:, j]
         else:
             values = np.zeros((n, t.size))
         for block, g_C, g_S, _ in weights.doubles:
@@ -462,8 +492,8 @@ class BlockMotion:
         block sits at the top rate), ν the largest ν_b; 1 x 1 blocks contribute 1.
         """
         K, nu = 1.0, 0.0
-        for block in self.blocks:
-            if block.N is None or block.skip:
+        for block in self.doubles:
+            if block.skip:
                 continue
             nu = max(nu, block.nu)
             gap = self.growth - block.growth
@@ -484,15 +514,16 @@ class BlockMotion:
         shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t
         decay = np.exp(self.growth * t)
         # e^{wt} below 2⁻¹⁰²² loses relative accuracy: 1e-300 of the weights, absolute
-        floor = np.multiply.outer(weights.size, 1e-300 * (1 + t))
-        if not weights.doubles:  # q = 1
+        tiny = 1e-300 * (1 + t)
+        if not weights.doubles:  # q = 1, and the weights are the 1 x 1 blocks' alone
             G = np.exp((self.growth + phi) * t) * _SAFETY
             bounds = np.multiply.outer(weights.rows, G * (phi * self.c_norm * t + self.rho0))
-            bounds += np.multiply.outer(weights.single_size, decay * shift * _SAFETY)
+            bounds += np.multiply.outer(weights.size, decay * (shift * _SAFETY) + tiny)
             if weights.F_rows is not None:
                 bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
                                             * (self.c_norm + self.rho0) * G)
-            return bounds + floor
+            return bounds
+        floor = np.multiply.outer(weights.size, tiny)
         K, nu = self._growth_constants()
         nu_t = nu * t
         q = np.minimum(K, 1 + nu_t)
@@ -518,42 +549,41 @@ class BlockMotion:
         return bounds * _SAFETY + floor
 
 
+
+
 class _Order:
     """The weights of one derivative order (see :meth:`BlockMotion._order`).
 
-    ``rates`` of the evaluated 1 x 1 blocks, with the ``real`` and ``imag`` parts of their
-    weights g_j = weight·L_j c_j (columns (n, 1)) and whether they oscillate; ``doubles``:
-    per 2 x 2 block (block, L_b c_b, L_b N c_b as columns, (row norms of L_b, ‖c_b‖,
-    ‖N c_b‖)); ``single_size`` Σ_j |g_j| per row; ``rows`` the row norms of L; ``F_rows``
-    σ‖(X's velocity rows)_i‖ for order 2.
+    ``g``: the weights g_j = weight_j·L_j c_j of the evaluated 1 x 1 blocks (the columns
+    of an (n, blocks) array); ``doubles``: per 2 x 2 block (block,
+    L_b c_b, L_b N c_b as columns, (row norms of L_b, ‖c_b‖, ‖N c_b‖)); ``single_size``
+    Σ_j |g_j| per row; ``rows`` the row norms of L; ``F_rows`` σ‖(X's velocity rows)_i‖
+    for order 2.
     """
 
-    def __init__(self, L: np.ndarray, blocks: list[_Block], c: np.ndarray,
-                 F_rows: np.ndarray | None) -> None:
-        rates, columns, factors, doubles = [], [], [], []
-        for block in blocks:
+    def __init__(self, L: np.ndarray, motion: BlockMotion, F_rows: np.ndarray | None) -> None:
+        c = motion.c
+        g = L[:, motion.columns] * (motion.weights * c[motion.columns])  # (n, blocks)
+        self.g = g
+        self.single_size = np.abs(g).sum(axis=1)
+        self.rows = np.sqrt((L.real ** 2 + L.imag ** 2).sum(axis=1))
+        self.F_rows = F_rows
+        self.doubles = []
+        #: Σ of every weight's size per row (the absolute floor of the bound)
+        self.size = self.single_size
+        if not motion.doubles:
+            return
+        for block in motion.doubles:
             if block.skip:
                 continue
-            if block.N is None:
-                rates.append(block.mu)
-                columns.append(block.columns[0])
-                factors.append(block.weight * c[block.columns[0]])
-            else:
-                cols = list(block.columns)
-                rows, coefficient = L[:, cols], c[cols]
-                Nc = block.N @ coefficient
-                doubles.append((block, block.weight * (rows @ coefficient)[:, None],
-                                block.weight * (rows @ Nc)[:, None],
-                                (np.sqrt((np.abs(rows) ** 2).sum(axis=1)), _norm(coefficient),
-                                 _norm(Nc))))
-        self.rates = np.array(rates, dtype=complex)
-        g = L[:, columns] * np.array(factors, dtype=complex)  # (n, blocks)
-        real, imag = g.real, g.imag
-        self.real = [real[:, j:j + 1] for j in range(len(rates))]
-        self.imag = [imag[:, j:j + 1] for j in range(len(rates))]
-        self.oscillating = [rate.imag != 0 for rate in rates]
-        self.doubles = doubles
-        self.single_size = np.abs(g).sum(axis=1)
+            cols = list(block.columns)
+            rows, coefficient = L[:, cols], c[cols]
+            Nc = block.N @ coefficient
+            self.doubles.append((block, block.weight * (rows @ coefficient)[:, None],
+                                 block.weight * (rows @ Nc)[:, None],
+                                 (np.sqrt((np.abs(rows) ** 2).sum(axis=1)), _norm(coefficient),
+                                  _norm(Nc))))
+        doubles = self.doubles
         zero = np.zeros(L.shape[0])
         self.double_C = sum((np.abs(g_C[:, 0]) for _, g_C, _, _ in doubles), zero)
         self.double_S = sum((np.abs(g_S[:, 0]) for _, _, g_S, _ in doubles), zero)
@@ -562,7 +592,4 @@ class _Order:
                         for block, _, _, (rows, c_norm, _) in doubles), zero)
         self.d_S = sum((block.weight * block.d_error * Nc_norm * rows
                         for block, _, _, (rows, _, Nc_norm) in doubles), zero)
-        #: Σ of every weight's size per row (the absolute floor of the bound)
         self.size = self.single_size + self.double_C + self.double_S
-        self.rows = np.sqrt((L.real ** 2 + L.imag ** 2).sum(axis=1))
-        self.F_rows = F_rows
