@@ -27,9 +27,10 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from flint import ctx, fmpq, fmpq_poly
+from flint import fmpq, fmpq_poly
 
 from ..exact.resolvent import resolvent
+from ..kernels.precision import flint_workprec
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.numbers import declare_parameters, shown, to_exact
@@ -92,13 +93,9 @@ def _roots(poly: sp.Poly) -> np.ndarray:
     coefficients = poly.all_coeffs()
     if all(c.is_Rational for c in coefficients):
         exact = fmpq_poly([fmpq(int(c.p), int(c.q)) for c in reversed(coefficients)])
-        saved = ctx.prec
-        try:
-            ctx.prec = _ROOT_BITS
+        with flint_workprec(_ROOT_BITS):
             pairs: list[Any] = list(exact.complex_roots())  # (root ball, multiplicity)
             found = [(complex(pair[0]), int(pair[1])) for pair in pairs]
-        finally:
-            ctx.prec = saved
         return np.array([root for root, m in found for _ in range(m)], dtype=complex)
     return np.roots(np.array([complex(c) for c in coefficients])).astype(complex)
 

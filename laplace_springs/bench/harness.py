@@ -52,6 +52,7 @@ import mpmath
 import numpy as np
 from sympy.core.cache import clear_cache
 
+from ..kernels.precision import workdps
 from ..model.scene import Scene
 from ..numeric import first_order
 from ..planning.progress import Progress
@@ -171,7 +172,7 @@ class Reference:
 
     def __init__(self, problem: Problem, digits: int) -> None:
         self.values = reference_motion_arb(problem.scene, problem.mp_times, digits)
-        with mpmath.workdps(digits + 10):
+        with workdps(digits + 10):
             self.scale = max(abs(v) for v in self.values.ravel())
             high = np.array([float(v) for v in self.values.ravel()])
             low = np.array([float(v - mpmath.mpf(h)) for v, h in zip(self.values.ravel(), high)])
@@ -184,7 +185,7 @@ class Reference:
         if values.shape != self.values.shape:
             return float("inf")
         if values.dtype == object:
-            with mpmath.workdps(40):
+            with workdps(40):
                 diff = max(abs(mpmath.mpf(v) - r) for v, r in
                            zip(values.ravel(), self.values.ravel()))
                 return float(diff / self.scale) if self.scale else float(diff)

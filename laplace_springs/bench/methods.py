@@ -31,6 +31,7 @@ import sympy as sp
 from sympy.core.cache import clear_cache
 
 from ..exact.resolvent import resolvent
+from ..kernels.precision import workdps
 from ..model.scene import Scene
 from ..model.symbols import TIME, lam
 from ..numeric.first_order import first_order_system, float_matrix
@@ -245,7 +246,7 @@ def _transform_coefficients(problem: Problem) -> tuple[list, list[list]]:
         return [mpmath.mpf(sp.Float(c, 40)._mpf_) if not isinstance(c, sp.Rational)
                 else mpmath.mpf(int(c.p)) / int(c.q) for c in poly.all_coeffs()]
 
-    with mpmath.workdps(40):
+    with workdps(40):
         return coefficients(R.determinant), [coefficients(N) for N in R.numerators]
 
 
@@ -257,7 +258,7 @@ def _invertlaplace_runner(talbot_or_cohen: str) -> Callable[[Problem, Any], Outc
             def X(s, numerator=numerator):
                 return mpmath.polyval(numerator, s) / mpmath.polyval(denominator, s)
             for col, tv in enumerate(problem.mp_times):
-                with mpmath.workdps(15):
+                with workdps(15):
                     values[i, col] = (mpmath.mpf(problem.x0[i]) if tv == 0 else
                                       mpmath.invertlaplace(X, tv, method=talbot_or_cohen))
         return Outcome(values, note="x(0) = x0 given (t = 0 not invertible)")

@@ -18,8 +18,9 @@ from collections.abc import Sequence
 import mpmath
 import numpy as np
 import sympy as sp
-from flint import arb, arb_mat, ctx, fmpq, fmpq_mat, fmpz
+from flint import arb, arb_mat, fmpq, fmpq_mat, fmpz
 
+from ..kernels.precision import flint_workprec, workdps, workprec
 from ..model.errors import SceneError
 from ..model.numbers import to_exact
 
@@ -82,7 +83,7 @@ def first_order_matrix_mp(scene) -> mpmath.matrix:
 def _expm_motion(Z: sp.MatrixBase, y0: sp.MatrixBase, n: int, times: Sequence,
                  dps: int) -> np.ndarray:
     """The first n entries of exp(Z t)·y0 by mpmath at ``dps`` digits, one column per time."""
-    with mpmath.workdps(dps):
+    with workdps(dps):
         Z, y0 = _mp_matrix(Z), _mp_matrix(y0)
         out = np.empty((n, len(times)), dtype=object)
         for col, tv in enumerate(times):
@@ -144,7 +145,7 @@ def relative_error(values, reference) -> float:
     >>> relative_error([1.0, 2.0], [1, 2.000000001]) < 1e-9
     True
     """
-    with mpmath.workdps(60):
+    with workdps(60):
         ref = [_to_mpf(r) for r in np.ravel(reference)]
         diff = max(abs(_to_mpf(v) - r) for v, r in zip(np.ravel(values), ref))
         scale = max(abs(r) for r in ref)
@@ -252,11 +253,11 @@ def reference_motion_arb(scene, times: Sequence, digits: int = 60,
     """
     bits = int(digits * 3.33) + 64
     while bits <= max_bits:
-        with ctx.workprec(bits):
+        with flint_workprec(bits):
             balls, relative_radius = _arb_motion(scene, times, digits)
         if relative_radius < 10.0 ** -digits:
             out = np.empty((scene.n, len(times)), dtype=object)
-            with mpmath.workprec(bits):
+            with workprec(bits):
                 for i, row in enumerate(balls):
                     for col, ball in enumerate(row):
                         out[i, col] = _arb_to_mpf(ball)

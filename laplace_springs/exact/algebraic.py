@@ -20,6 +20,8 @@ import sympy as sp
 from sympy.core.evalf import prec_to_dps
 from sympy.polys.rootoftools import ComplexRootOf
 
+from ..kernels.precision import flint_workdps, workdps
+
 __all__ = ["AlgebraicRoot", "root_enclosures"]
 
 
@@ -31,7 +33,7 @@ def root_enclosures(coeffs: tuple[sp.Rational, ...], dps: int) -> tuple[tuple[st
     returned with ``dps`` digits.
     """
     poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in coeffs])
-    with flint.ctx.workdps(dps):
+    with flint_workdps(dps):
         # python-flint's stub declares list[acb]; the call returns (root, multiplicity) pairs
         pairs = cast(list[tuple[flint.acb, int]], poly.complex_roots())
         roots = [r for r, _ in pairs]
@@ -83,7 +85,7 @@ def _root_value(root: AlgebraicRoot, dps: int) -> sp.Expr | None:
     """Value of a root at ``dps`` digits from flint, or None if the match is ambiguous."""
     coeffs = tuple(reversed([sp.Rational(c) for c in root.poly.all_coeffs()]))
     interval = root._get_interval()
-    with mpmath.workdps(dps):
+    with workdps(dps):
         found = [(mpmath.mpf(re), mpmath.mpf(im)) for re, im in root_enclosures(coeffs, dps)]
         inside = [z for z in found if _inside(interval, *z)]
         if len(inside) != 1:

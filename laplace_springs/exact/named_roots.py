@@ -65,6 +65,7 @@ import mpmath
 import sympy as sp
 from mpmath.libmp import from_man_exp
 
+from ..kernels.precision import flint_workprec, workdps
 from ..limits import limits
 from ..model.scene import Scene
 from ..model.symbols import lam
@@ -123,7 +124,7 @@ def needs_algebraic_roots(q: flint.fmpq_poly) -> bool:
     if q.degree() < 3:
         return False
     if q.degree() == 4 and _is_even(q):
-        with flint.ctx.workprec(_BASE_BITS):
+        with flint_workprec(_BASE_BITS):
             mus = _complex_roots(_even_part(q))
         return not all(mu.imag.is_zero() and mu.real < 0 for mu in mus)
     return True
@@ -145,7 +146,7 @@ def _enclosures(coeffs: tuple[tuple[int, int], ...], prec: int) -> tuple[flint.a
     """All roots of the (squarefree) polynomial at ``prec`` bits: real ones first
     (imaginary part exactly 0), then conjugate pairs."""
     poly = flint.fmpq_poly([flint.fmpq(p, q) for p, q in coeffs])
-    with flint.ctx.workprec(prec):
+    with flint_workprec(prec):
         return tuple(_complex_roots(poly))
 
 
@@ -355,7 +356,7 @@ def _sympy_roots(key: tuple[tuple[int, int], ...]) -> tuple[list, list]:
     with their values, in SymPy's numbering (SymPy isolates q: seconds at degree 24)."""
     q = to_poly(flint.fmpq_poly([flint.fmpq(p, d) for p, d in key]), lam)
     real, upper = _upper_roots(q)
-    with mpmath.workdps(30):
+    with workdps(30):
         upper_values = [complex(sp.N(alpha, 30)) + 1j * complex(sp.N(beta, 30))
                         for alpha, beta in upper]
     return real, list(zip(upper, upper_values))
@@ -439,7 +440,7 @@ class _Residue:
         """h(ρ) evaluated with ``work`` bits (or a value computed with more)."""
         found = min((b for b in self.values if b >= work), default=None)
         if found is None:
-            with flint.ctx.workprec(work):
+            with flint_workprec(work):
                 self.values[work] = flint.acb_poly(self.h)(self.roots.refined(self.kind, self.j, work))
             found = work
         return self.values[found]
@@ -452,7 +453,7 @@ class _Residue:
             work = prec + 32
             while True:
                 v = self.at(work)
-                with flint.ctx.workprec(work):
+                with flint_workprec(work):
                     x = (v.real if part == "re" else v.imag) * flint.arb(scale)
                 if not x.contains(0) and x.rad() <= abs(x.mid()) * flint.arb(2) ** (-prec - 2):
                     return _mpf(x, prec)
@@ -528,7 +529,7 @@ class NamedTermsBuilder:
         factor = flint.fmpq(1 if kind == "real" else 2 if part == "re" else -2, factorial(k - 1))
         value = residue.part(part, factor)
         self.count += 1
-        with mpmath.workdps(20):
+        with workdps(20):
             shown_value = _shown_number(float(value(64)))
         text, tex = self._shown(group, i, kind, part, factor)
         display = Shown(f"{text} ≈ {shown_value}", rf"{tex} \approx {shown_value}",

@@ -63,6 +63,8 @@ import mpmath
 import sympy as sp
 from sympy.core.evalf import prec_to_dps
 
+from ..kernels.precision import flint_workprec, workdps, workprec
+
 __all__ = ["SumOverRoots", "Condition", "root_sum_weights", "sum_over_roots", "is_rational_poly"]
 
 #: Functions that commute with complex conjugation (f(z̄) = conj f(z)): a summand built
@@ -97,7 +99,7 @@ def _roots(coefficients: tuple[int, ...], bits: int) -> tuple[tuple[int, int, in
     """Roots of the integer polynomial (ascending ``coefficients``), with multiplicity, as
     exact binary midpoints (re mantissa, re exponent, im mantissa, im exponent,
     multiplicity) of python-flint's certified isolating balls at ``bits`` of precision."""
-    with flint.ctx.workprec(bits):  # (the stubs say list of acb; it is (acb, multiplicity))
+    with flint_workprec(bits):  # (the stubs say list of acb; it is (acb, multiplicity))
         found: Any = flint.fmpz_poly(list(coefficients)).complex_roots()
     out = []
     for z, multiplicity in found:
@@ -150,7 +152,7 @@ def _mp_roots(coefficients: tuple[int, ...], digits: int) -> list[tuple[Any, int
     """(root as an mpmath mpc, multiplicity) good to about ``digits`` digits."""
     bits = int(digits * 3.33) + 30
     out = []
-    with mpmath.workprec(bits + 64):  # the midpoints are exact binary numbers: kept whole
+    with workprec(bits + 64):  # the midpoints are exact binary numbers: kept whole
         for re_man, re_exp, im_man, im_exp, multiplicity in _roots(coefficients, bits):
             root = mpmath.mpc(mpmath.ldexp(re_man, re_exp), mpmath.ldexp(im_man, im_exp))
             out.append((root, multiplicity))
@@ -246,7 +248,7 @@ class SumOverRoots(sp.RootSum):
         previous = None
         try:
             for _ in range(6):
-                with mpmath.workdps(work):
+                with workdps(work):
                     value = mpmath.fsum(_mp(expr, var, root, work) * multiplicity
                                         for root, multiplicity in _mp_roots(coefficients, work))
                     if previous is not None and abs(value - previous) <= abs(value) * mpmath.mpf(10) ** (-dps - 3):
@@ -254,7 +256,7 @@ class SumOverRoots(sp.RootSum):
                 previous, work = value, 2 * work
         except _Unsupported:
             return self._sympy_sum(coefficients, expr, var, dps + 20).evalf(dps)
-        with mpmath.workdps(work):
+        with workdps(work):
             value = mpmath.mpmathify(value)
             if isinstance(value, mpmath.mpc) and value.imag != 0:
                 return sp.Float(value.real, dps) + sp.I * sp.Float(value.imag, dps)

@@ -64,6 +64,7 @@ import mpmath
 import numpy as np
 import sympy
 
+from ..kernels.precision import workprec
 from .errors import InternalError, SceneError
 from .numbers import ALLOWED_FUNCTIONS, shown, split_unit, to_exact
 from .periodic import PERIODIC_FUNCTIONS
@@ -925,7 +926,7 @@ def _scaled(values: Any, ratio: sympy.Expr) -> Any:
     if array.dtype != object:
         return array * float(ratio)
     bits = max((v._mpf_[1].bit_length() for v in array.ravel() if isinstance(v, mpmath.mpf)), default=53)
-    with mpmath.workprec(bits + 20):
+    with workprec(bits + 20):
         factor = mpmath.mpf(int(ratio.p)) / int(ratio.q)
         return np.array([v * factor for v in array.ravel()], dtype=object).reshape(array.shape)
 

@@ -39,8 +39,9 @@ from typing import Any
 import mpmath
 import numpy as np
 import sympy as sp
-from flint import acb, acb_mat, acb_poly, arb, ctx, fmpq, fmpq_mat, fmpq_poly
+from flint import acb, acb_mat, acb_poly, arb, fmpq, fmpq_mat, fmpq_poly
 
+from ..kernels.precision import flint_workprec, workdps
 from ..limits import limits
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -113,7 +114,7 @@ class CertifiedPoles:
     def spectral_radius(self) -> float:
         """max |ρ| over the poles (float, from 64-bit enclosures)."""
         poles = self.poles(64)
-        with ctx.workprec(64):
+        with flint_workprec(64):
             return max((float(abs(p.root).mid()) for p in poles), default=0.0)
 
     def evaluate(self, times: Times, order: int, bits: int) -> tuple[np.ndarray, np.ndarray]:
@@ -123,7 +124,7 @@ class CertifiedPoles:
         rounding of the midpoints to float64 is the caller's to add).
         """
 
-        with ctx.workprec(bits):
+        with flint_workprec(bits):
             balls = self._balls_at(times, order, bits)
             mids = np.array([[float(b.real.mid()) for b in row] for row in balls])
             rads = np.array([[float(b.real.rad()) for b in row] for row in balls])
@@ -132,7 +133,7 @@ class CertifiedPoles:
     def evaluate_mp(self, times: Times, order: int, bits: int) -> tuple[list, list]:
         """As :meth:`evaluate`, but midpoints and radii as exact mpmath numbers (n lists)."""
 
-        with ctx.workprec(bits):
+        with flint_workprec(bits):
             balls = self._balls_at(times, order, bits)
             mids = [[_mpf(b.real.mid()) for b in row] for row in balls]
             rads = [[_mpf(b.real.rad()) for b in row] for row in balls]
@@ -160,7 +161,7 @@ class CertifiedPoles:
         bits = int(dps * 3.33) + 64
         while True:
             poles = self.poles(bits)
-            with ctx.workprec(bits):
+            with flint_workprec(bits):
                 precise = _precision(poles) <= 10.0 ** -(dps + 2)
             if precise or bits >= limits().max_bits:
                 return _pole_sum(self.n, poles, dps)
@@ -228,7 +229,7 @@ def _series_inverse(h: list) -> list:
 def _poles(data: CertifiedPoles, bits: int) -> list[_Pole]:
     """Roots with Im ≥ 0 and the Laurent coefficients of N_i/D at them, at ``bits``."""
     out = []
-    with ctx.workprec(bits):
+    with flint_workprec(bits):
         for q, m in data.factors:
             rest = data.denominator
             for _ in range(m):
@@ -261,7 +262,7 @@ def _pole_sum(n: int, poles: list[_Pole], dps: int) -> PoleSum:
     nodes: list[Any] = []
     coefficients: list[tuple[tuple[Any, ...], ...]] = []
     mirror: list[int] = []
-    with mpmath.workdps(dps + 10):
+    with workdps(dps + 10):
         for pole in poles:
             z = mpmath.mpc(_mpf(pole.root.real.mid()), _mpf(pole.root.imag.mid()))
             rows = [tuple(mpmath.mpc(_mpf(c.real.mid()), _mpf(c.imag.mid())) for c in row)
@@ -369,14 +370,14 @@ def certified_digits(poles: CertifiedPoles, times: Times, order: int, dps: int,
     while pending:
         mids, rads = poles.evaluate_mp(times.subset(np.array(pending)), order, bits)
         keep = []
-        with mpmath.workdps(dps + 10):
+        with workdps(dps + 10):
             for k, col in enumerate(pending):
                 column = [mids[i][k] for i in range(n)]
                 radius = [rads[i][k] + abs(column[i]) * mpmath.mpf(10) ** (-dps) for i in range(n)]
                 scale = max([abs(v) for v in column] + [mpmath.mpf(floor)])
                 if max(radius) <= mpmath.mpf(10) ** (-dps) * scale * 10 or bits >= limits().max_bits:
                     for i in range(n):
-                        with mpmath.workdps(dps):
+                        with workdps(dps):
                             values[i, col] = +column[i]
                         bounds[i, col] = radius[i]
                 else:
@@ -391,7 +392,7 @@ def closed_form(poles: CertifiedPoles, digits: int = 15) -> list:
 
 
     rows: list = [sp.Integer(0)] * poles.n
-    with mpmath.workdps(digits + 5):
+    with workdps(digits + 5):
         for pole in poles.poles(int(digits * 3.33) + 64):
             alpha = sp.Float(_mpf(pole.root.real.mid()), digits)
             beta = sp.Float(_mpf(pole.root.imag.mid()), digits)

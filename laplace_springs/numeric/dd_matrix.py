@@ -42,6 +42,7 @@ from flint import fmpq, fmpq_mat
 
 from ..kernels.batch import rows_product
 from ..kernels.dd import U, dd_add, dd_mul, dd_sum, from_exact, two_prod, two_sum
+from ..kernels.precision import workdps
 
 __all__ = ["matvec", "matmul", "taylor_matrices", "TaylorMatrices", "expm", "DyadicPowers",
            "abs_product"]
@@ -169,7 +170,7 @@ def taylor_matrices(entries: list[list[Any]]) -> TaylorMatrices:
                     hi[j, a, b], lo[j, a, b] = from_exact(power[a, b] / factorial)
         theta = max((sum(abs(float(v)) for v in row) for row in rational), default=0.0)
     else:
-        with mpmath.workdps(60):
+        with workdps(60):
             X = mpmath.matrix([[mpmath.mpf(v) if not isinstance(v, mpmath.mpf) else v
                                 for v in row] for row in entries])
             P = mpmath.eye(m)

@@ -47,10 +47,11 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from flint import arb, ctx, fmpq
+from flint import arb, fmpq
 
 from ..kernels.batch import columns_product
 from ..kernels.dd import U, two_sum
+from ..kernels.precision import flint_workprec
 from ..limits import limits
 from ..model.errors import FloatRangeError, SceneError
 from ..model.scene import Scene
@@ -275,9 +276,7 @@ def _state_coefficients(H: float, a: float, c: float, terms: int) -> tuple[np.nd
     one's error (arb balls: J_{K+2}, J_{K+1} by their power series, the rest by the
     backward recurrence J_{k−1} = (2k/X)J_k − J_{k+1}, stable downwards; the precision
     covers the series' cancellation, about e^X)."""
-    saved = ctx.prec
-    ctx.prec = 192 + int(1.5 * float(Fraction(2) * Fraction(H) / Fraction(a)))
-    try:
+    with flint_workprec(192 + int(1.5 * float(Fraction(2) * Fraction(H) / Fraction(a)))):
         x = arb(fmpq(2) * _fmpq(H) / _fmpq(a))
         damp = (-arb(_fmpq(c) / _fmpq(a) * _fmpq(H))).exp()
         values = [arb(0)] * (terms + 3)
@@ -293,8 +292,6 @@ def _state_coefficients(H: float, a: float, c: float, terms: int) -> tuple[np.nd
             lo[k] = float(mid - hi[k])
             rest = abs(mid - hi[k] - lo[k]) + value.rad()
             err[k] = float(arb(rest).upper()) * 1.01 + 2.0**-1000
-    finally:
-        ctx.prec = saved
     return hi, lo, err
 
 
@@ -302,9 +299,8 @@ def _bessel_series(x: Any, k: int) -> Any:
     """J_k(x) in arb from Σ_m (−x²/4)^m (x/2)^k/(m!(m + k)!), the tail past the point
     where the ratio of terms is below 1/2 bounded by twice its first term.
 
-    >>> ctx.prec = 128
-    >>> v = _bessel_series(arb(10), 3)
-    >>> ctx.prec = 53
+    >>> with flint_workprec(128):
+    ...     v = _bessel_series(arb(10), 3)
     >>> abs(float(v.mid()) - 0.05837937930518666) < 1e-15
     True
     """

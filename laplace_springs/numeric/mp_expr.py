@@ -27,6 +27,7 @@ from sympy.polys.rootoftools import ComplexRootOf
 
 from ..exact.algebraic import AlgebraicRoot
 from ..exact.named import NamedNumber, NamedQuantity
+from ..kernels.precision import workdps
 
 __all__ = ["mp_size", "mp_value", "numeric_value"]
 
@@ -101,7 +102,7 @@ def _evaluate(expr: sp.Expr, cache: dict, dps: int):
 
 def _at(expr: sp.Expr, dps: int, caches: dict):
     cache = caches.setdefault(dps, {})
-    with mpmath.workdps(dps):
+    with workdps(dps):
         return _evaluate(expr, cache, dps)
 
 
@@ -142,7 +143,7 @@ def mp_value(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     high = _converged(expr, dps, {} if caches is None else caches, _agree)
     if high is None:
         return _fallback(expr, dps)
-    with mpmath.workdps(dps):
+    with workdps(dps):
         return +mpmath.re(high)
 
 
@@ -164,7 +165,7 @@ def mp_size(expr: sp.Expr, dps: int, caches: dict | None = None) -> mpmath.mpf:
     if high is not None:
         return abs(high)
     size = sp.Abs(numeric_value(expr, dps))   # SymPy's adaptive evalf: complex values too
-    with mpmath.workdps(dps):
+    with workdps(dps):
         return mpmath.mpf(sp.Float(size, dps)._mpf_)
 
 
@@ -186,7 +187,7 @@ def _converged(expr: sp.Expr, dps: int, caches: dict, agree: Callable[[Any, Any,
 
 def _agree_absolute(low, high, dps: int) -> bool:
     """Do two evaluations agree within 10^-dps·max(1, |high|)?"""
-    with mpmath.workdps(dps + 10):
+    with workdps(dps + 10):
         return abs(low - high) <= mpmath.mpf(10) ** (-dps) * max(1, abs(high))
 
 
@@ -202,7 +203,7 @@ def _at_or_none(expr: sp.Expr, dps: int, caches: dict):
 
 def _agree(low, high, dps: int) -> bool:
     """Do two evaluations agree to ``dps`` digits (and is the value real)?"""
-    with mpmath.workdps(dps + 10):
+    with workdps(dps + 10):
         tol = abs(high) * mpmath.mpf(10) ** (-dps - 2)
         return abs(mpmath.im(high)) <= tol and abs(low - high) <= tol
 
@@ -211,5 +212,5 @@ def _fallback(expr: sp.Expr, dps: int) -> mpmath.mpf:
     value = numeric_value(expr, dps)
     if value.is_real is False:
         value = sp.re(value)
-    with mpmath.workdps(dps):
+    with workdps(dps):
         return mpmath.mpf(sp.Float(value, dps)._mpf_)

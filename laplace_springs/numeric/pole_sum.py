@@ -52,6 +52,7 @@ import numpy as np
 
 from ..kernels.batch import rows_product
 from ..kernels.dd import two_diff, two_prod
+from ..kernels.precision import workdps
 from ..limits import limits
 
 __all__ = ["Block", "PoleSum", "evaluate_blocks", "plan_blocks", "two_diff"]
@@ -127,7 +128,7 @@ def _product(values) -> mpmath.mpf:
 def _newton(form: PoleSum, block: Sequence[int]) -> tuple[list, list, object]:
     """Expanded node order, Newton coefficients d_m (lists of n mpc) and centre μ."""
     nodes, coeffs, mult = form.nodes, form.coefficients, form.multiplicity
-    with mpmath.workdps(form.dps):
+    with workdps(form.dps):
         total = sum(mult[j] for j in block)
         centre = sum((nodes[j] * mult[j] for j in block), mpmath.mpc(0)) / total
         order = [j for j in _leja(block, nodes, centre) for _ in range(mult[j])]
@@ -160,7 +161,7 @@ def _dd(value) -> tuple[float, float]:
 
 def _make_block(form: PoleSum, block: Sequence[int], t_high: float) -> Block:
     order, d, centre = _newton(form, block)
-    with mpmath.workdps(form.dps):
+    with workdps(form.dps):
         upper = all(mpmath.im(form.nodes[j]) > 0 for j in block)
         delta = np.array([complex(form.nodes[j] - centre) for j in order])
         mu = (*_dd(mpmath.re(centre)), *_dd(mpmath.im(centre)))
@@ -400,7 +401,7 @@ def derivative_sum(form: PoleSum, order: int = 1) -> PoleSum:
     mpc(real='0.0', imag='1.0')
     """
     for _ in range(order):
-        with mpmath.workdps(form.dps):
+        with workdps(form.dps):
             coefficients = []
             for z, powers in zip(form.nodes, form.coefficients):
                 rows = []

@@ -108,6 +108,7 @@ from flint import fmpq, fmpq_mat
 
 from ..kernels.dd import U, dd_add, dd_div, dd_mul, dd_sqrt, dd_sum, phase, two_prod, two_sum
 from ..kernels.poles import clusters
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import InternalError
 from ..model.scene import Scene
@@ -264,7 +265,7 @@ def _pair(entry: Any) -> tuple[float, float]:
         if den == 1 and abs(num) <= 2**53:
             return hi, 0.0
         return hi, float(Fraction(num, den) - Fraction(hi))
-    with mpmath.workdps(40):
+    with workdps(40):
         value = mpmath.mpf(sp.N(entry, 40)._mpf_)
         hi = float(value)
         return hi, float(value - hi)
@@ -646,7 +647,7 @@ def _ritz(SK: tuple[np.ndarray, np.ndarray], SC: tuple[np.ndarray, np.ndarray] |
     """The generalised eigenvectors Y (hi, lo) of (S_K + γS_C, N) at 40 digits (NᵀY N = I),
     with γ weighting C like K in this cluster, and the Rayleigh quotients of S_K."""
     k = SK[0].shape[0]
-    with mpmath.workdps(40):
+    with workdps(40):
         K_mp, N_mp = _to_mp(*SK), _to_mp(*N)
         A = K_mp
         if SC is not None:

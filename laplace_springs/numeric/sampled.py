@@ -58,6 +58,7 @@ import sympy as sp
 
 from ..kernels.batch import rows_product
 from ..kernels.dd import U, dd_add, dd_div, two_sum
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.sampled import Sampled
@@ -329,7 +330,7 @@ class SampledInput:
         m2 = self.A.shape[0]
         n = m2 // 2
         work = dps + 10 + len(str(t.size))
-        with mpmath.workdps(work):
+        with workdps(work):
             Aa = mpmath.zeros(m2 + 2, m2 + 2)
             for i in range(m2):
                 for j in range(m2):
@@ -586,7 +587,7 @@ def _exact(value: Any, exponent: int = 0) -> Any:
     value = sp.sympify(value)
     if isinstance(value, sp.Rational):
         return value * sp.Integer(2) ** exponent
-    with mpmath.workdps(60):
+    with workdps(60):
         return mpmath.ldexp(_mp(value, 60), exponent)
 
 

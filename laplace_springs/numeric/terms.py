@@ -37,6 +37,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.real_terms import Term
+from ..kernels.precision import workdps
 from .mp_expr import mp_value
 from .pole_sum import Block, PoleSum, evaluate_blocks, plan_blocks
 
@@ -170,7 +171,7 @@ def numeric_terms(rows: Sequence[Sequence[Term]], dps: int = 40) -> NumericTerms
     """
     rows = tuple(tuple(r) for r in rows)
     builder = _Builder(len(rows), dps)
-    with mpmath.workdps(dps):
+    with workdps(dps):
         for i, terms in enumerate(rows):
             for term in terms:
                 builder.term(i, term)
@@ -217,14 +218,14 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
     The working precision covers the digits the sum cancels (measured, then redone) and
     the digits of the largest phase |z t| (an absolute error in z·t is one in the phase).
     """
-    with mpmath.workdps(15):
+    with workdps(15):
         reach = (max((abs(z) for z in data.poles.nodes), default=mpmath.mpf(0))
                  * max((abs(tv) for tv in ts), default=mpmath.mpf(0)))
     extra = _digits(reach)
     work = digits + extra + 10
     while True:
         source = data.at_precision(work + 10)
-        with mpmath.workdps(work):
+        with workdps(work):
             values, sizes = _mp_sum(source.poles, n, ts)
             top = scale if scale else max((abs(v) for row in values for v in row), default=0)
             mag = max((s for row in sizes for s in row), default=mpmath.mpf(0))
@@ -286,10 +287,10 @@ def mp_values(data: NumericTerms, n: int, times: Sequence[mpmath.mpf], digits: i
     work : int
         The working precision used (decimal digits).
     """
-    with mpmath.workdps(30):
+    with workdps(30):
         floor = min((mpmath.mpf(s) for s in scales if s > 0), default=mpmath.mpf(0))
     values, sizes, work = _mp_values(data, n, list(times), digits, floor or None)
-    with mpmath.workdps(work):
+    with workdps(work):
         unit = mpmath.mpf(10) ** (2 - work)
         bounds = [[s * unit for s in row] for row in sizes]
     return values, bounds, work

@@ -22,6 +22,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
 from ..model.numbers import to_exact
@@ -80,7 +81,7 @@ def _exact(value: object) -> Fraction:
     if isinstance(value, sp.Rational):
         return Fraction(int(value.p), int(value.q))
     if isinstance(value, sp.Basic):  # an irrational number: 120 digits of it
-        with mpmath.workdps(120):
+        with workdps(120):
             return _exact(mpmath.mpf(sp.Float(value, 120)._mpf_))
     raise TypeError(value)
 

@@ -28,6 +28,7 @@ from ..exact.jumps import jump_residuals
 from ..exact.root_sums import Condition
 from ..exact.screening import has_exact_form
 from ..kernels.modulo import reduce_modulo
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.numbers import generic_values
 from ..model.scene import Scene
@@ -177,7 +178,7 @@ class ExactSolution(Solution):
         """Columns with t ≥ delay and t − delay there as a double-double."""
         if delay == 0:
             return np.arange(len(times)), times.hi, times.lo
-        with mpmath.workdps(40):
+        with workdps(40):
             tau = mp_value(delay, 40)
             tau_hi = float(tau)
             tau_lo = float(tau - tau_hi)
@@ -241,7 +242,7 @@ class ExactSolution(Solution):
         start = self._start(times, order)
         exact_columns = set() if start is None else set(start[0].tolist())
         kept = [j for j in range(len(times)) if j not in exact_columns]
-        with mpmath.workdps(30):  # t = 0 is set exactly below: its cancellation does not count
+        with workdps(30):  # t = 0 is set exactly below: its cancellation does not count
             scale = max([mpmath.mpf(floor), *(abs(row[j]) for row in total for j in kept)])
             largest = max((row[j] for row in sizes for j in kept), default=mpmath.mpf(0))
             # parts that cancel to exactly 0 (no floor): every digit may be lost
@@ -254,7 +255,7 @@ class ExactSolution(Solution):
             columns, exact = start
             for i, value in enumerate(exact):
                 held = mp_value(value, digits + 5) if value != 0 else mpmath.mpf(0)
-                with mpmath.workdps(digits + 5):
+                with workdps(digits + 5):
                     for j in columns:
                         total[i][j] = held
                         bounds[i][j] = abs(held) * mpmath.mpf(10) ** (-digits - 3)
@@ -266,20 +267,20 @@ class ExactSolution(Solution):
         and the sum of the parts' sizes."""
         n = self.scene.n
         work = digits + 20
-        with mpmath.workdps(work):
+        with workdps(work):
             total = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             bounds = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             sizes = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             stamps = [times.mpf(j) for j in range(len(times))]
         for piece, data in zip(self.pieces, self._numeric(order)):
-            with mpmath.workdps(work):
+            with workdps(work):
                 tau = mp_value(piece.delay, work) if piece.delay != 0 else mpmath.mpf(0)
                 on = [j for j, tv in enumerate(stamps) if tv >= tau]
                 shifted = [stamps[j] - tau for j in on]
             if not on:
                 continue
             part, bound, _ = mp_values(data, n, shifted, digits, [floor] * len(on))
-            with mpmath.workdps(work):
+            with workdps(work):
                 for k, j in enumerate(on):
                     for i in range(n):
                         total[i][j] += part[i][k]
@@ -292,13 +293,13 @@ class ExactSolution(Solution):
                     for tau, data in zip(response.delays, sums)] + [(rest, stamps)]
             for data, at in runs:
                 part, bound, _ = mp_values(data, n, at, digits, [floor] * len(at))
-                with mpmath.workdps(work):
+                with workdps(work):
                     for j in range(len(times)):
                         for i in range(n):
                             total[i][j] += part[i][j]
                             bounds[i][j] += bound[i][j]
                             sizes[i][j] += abs(part[i][j])
-        with mpmath.workdps(work):  # the rounding of the sums of the parts
+        with workdps(work):  # the rounding of the sums of the parts
             unit = mpmath.mpf(10) ** (1 - work)
             bounds = [[b + s * unit for b, s in zip(rb, rs)] for rb, rs in zip(bounds, sizes)]
         return total, bounds, sizes
@@ -314,7 +315,7 @@ class ExactSolution(Solution):
         total, bounds = self._mp(times, order, dps + 2, self._floor(order))
         values = np.empty((self.scene.n, len(times)), dtype=object)
         errors = np.empty((self.scene.n, len(times)), dtype=object)
-        with mpmath.workdps(dps):
+        with workdps(dps):
             for i, row in enumerate(total):
                 for j, v in enumerate(row):
                     values[i, j] = +v
@@ -383,18 +384,18 @@ def _reduced_exact(times: Times, tau: sp.Expr, period: sp.Expr) -> list[Fraction
 def _reduced_mp(times: Times, tau: sp.Expr, period: sp.Expr, dps: int) -> list[mpmath.mpf]:
     """(t − τ) mod P in [0, P) as mpf good to ``dps`` digits (relative to P)."""
     exact = _reduced_exact(times, tau, period)
-    with mpmath.workdps(dps):
+    with workdps(dps):
         if exact is not None:
             return [mpmath.mpf(w.numerator) / w.denominator for w in exact]
     largest = max((abs(float(times.exact(j))) for j in range(len(times))), default=0.0)
     work = dps + 10 + max(0, math.ceil(math.log10(max(largest, 1.0) / float(period))))
-    with mpmath.workdps(work):
+    with workdps(work):
         P, d = mp_value(period, work), mp_value(tau, work)
         out = []
         for j in range(len(times)):
             v = times.mpf(j) - d
             out.append(v - P * mpmath.floor(v / P))
-    with mpmath.workdps(dps):
+    with workdps(dps):
         return [+w for w in out]
 
 
@@ -411,7 +412,7 @@ def _reduced_float(times: Times, tau: sp.Expr, period: sp.Expr) -> tuple[np.ndar
         return hi, lo
     exact = _reduced_exact(times, tau, period)
     if exact is None:
-        with mpmath.workdps(40):
+        with workdps(40):
             values = _reduced_mp(times, tau, period, 40)
             hi = np.array([float(w) for w in values])
             lo = np.array([float(w - h) for w, h in zip(values, hi)])

@@ -34,10 +34,10 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Any
 
-import mpmath
 import numpy as np
 import sympy as sp
 
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
 from ..model.forcing import input_transform
@@ -357,7 +357,7 @@ class ExoSolution(Solution):
         for solution, columns, shifted in self._placements(exact, order, at_switch=False):
             part, part_bounds = solution.evaluate(shifted, derivative=order, dps=dps,
                                                   return_error=True)
-            with mpmath.workdps(dps + 10):  # the sums with guard digits
+            with workdps(dps + 10):  # the sums with guard digits
                 values[:, columns] = values[:, columns] + part[:n]
                 bounds[:, columns] = bounds[:, columns] + part_bounds[:n]
         return values, bounds

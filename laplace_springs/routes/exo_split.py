@@ -30,6 +30,7 @@ import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat
 
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.scene import Scene
 from ..numeric.first_order import rational_entries
@@ -109,7 +110,7 @@ class SplitPiece:
                 dps: int) -> tuple[np.ndarray, np.ndarray]:
         values, bounds = self.free.evaluate(list(times), derivative=derivative, dps=dps,
                                             return_error=True)
-        with mpmath.workdps(dps + 10):  # the sums at the digits asked, with guard digits
+        with workdps(dps + 10):  # the sums at the digits asked, with guard digits
             self._add_digits(values, bounds, times, derivative, dps)
         return values, bounds
 

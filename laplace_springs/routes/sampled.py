@@ -19,6 +19,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.assembly import exact_motion
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.sampled import formula_part
@@ -142,7 +143,7 @@ class SampledSolution(Solution):
                              f"most {limits().mp_max_segments} segments with {limits().mp_max_steps} distinct steps")
         values, bounds = self.base._digits(times, order, dps)
         exact = [Fraction(times.exact(i)) for i in range(len(times))]
-        with mpmath.workdps(dps + 5):
+        with workdps(dps + 5):
             for response in self.inputs:
                 rows = response.digits(exact, order, dps)
                 for col, row in enumerate(rows):
