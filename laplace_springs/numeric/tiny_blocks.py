@@ -241,8 +241,9 @@ class BlockMotion:
         pairs: dict[int, tuple[int, int]] = {}
         # ‖row of Y‖₂ ≤ √size·max|Y_ij|: rows need measuring only beyond that
         if Y is None or math.sqrt(size) * float(np.abs(Y).max()) > _CLUSTER_CONDITION:
-            condition = (np.full(size, np.inf) if Y is None
-                         else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
+            with np.errstate(over="ignore"):  # an infinite condition number is one
+                condition = (np.full(size, np.inf) if Y is None
+                             else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
             pairs = self._pairs(w, condition)
         X = V.copy() if pairs else V
         columns: list[int] = []
