@@ -140,3 +140,12 @@ def test_exact_solution_subs_solves_again_so_critical_damping_stays_exact():
     numeric = ls.solve(scene.subs({"c": 1}), method="modal")
     with pytest.raises(ls.SceneError, match="'c' is not a parameter of this scene; its parameters are none"):
         numeric.subs({"c": 2})
+
+
+def test_evaluating_a_scene_with_parameters_names_them():
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0],
+                                          parameters=["k", "c"]))
+    with pytest.raises(ls.SceneError, match="evaluate needs numbers, but the scene has the "
+                                            "parameters c, k"):
+        sol.evaluate([1.0])
+    assert sol.subs({"k": 4, "c": "1/10"}).evaluate([0.0]).tolist() == [[1.0]]
