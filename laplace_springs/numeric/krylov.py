@@ -25,8 +25,11 @@ spring and dashpot network). In energy coordinates A is [[0, P], [−Pᵀ, −D]
 ‖P‖₂² = λ_max(M⁻¹K) and D = M^{−1/2}CM^{−1/2}, so N(Az) ≤ ν N(z) with
 ν = √(p² + d²/4) + d/2 for p ≥ ‖P‖₂, d ≥ ‖D‖₂ bounded by Collatz–Wielandt or Gershgorin
 sums (:func:`.krylov_entries.spectral_bound`). A step from the computed state ẑ_j commits a local error δ_j
-(truncation after m terms, at most tail(θ, m)·N(ẑ_j); the terms' rounding; the rounding of
-their sum), and the error e_j = ẑ_j − z(jH) obeys e_{j+1} = exp(HA)e_j + δ_j, so
+(truncation after m terms, at most θ·N(s_m)/(m + 1)! from the last computed term
+s_m = (H·U_{m−1}, U_m), an a posteriori bound; the terms' rounding; the rounding of their
+sum, bounded per coordinate and carried into N through xᵀKx ≤ Σ_i s_i x_i² and
+vᵀMv ≤ Σ_i m_i v_i², s_i = Σ_j |K_ij|: :mod:`.krylov_steps`), and the error
+e_j = ẑ_j − z(jH) obeys e_{j+1} = exp(HA)e_j + δ_j, so
 
 * E_{j+1} = E_j + N(δ_j) bounds N(e_{j+1}): errors add, never grow;
 * the x part, X_{j+1} = min(X_j + H·E_j/√m_min, √R·E_j) + ‖(δ_j)_x‖∞: x(t) = x(b) + ∫v

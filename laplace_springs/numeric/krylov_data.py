@@ -83,10 +83,12 @@ class StepMatrix:
     beta : float
         ≥ ‖diag(√m)·|hi|‖₂ (√(‖·‖₁‖·‖∞), rounded up).
     float_x, float_v : float
-        ≥ ‖diag(√m·g)·|hi[:, :n]|‖₂ and the same of hi[:, n:], g_r = γ_{w_r} + 3u: the
+        ≥ ‖diag(√m·g)·|hi[:, :n]|·W‖₂ and the same of hi[:, n:], g_r = γ_{w_r} + 3u: the
         float64 product fl(hi·w_hi) is off from the exact D·(w_hi + w_lo) by at most
         g_r·(|hi||w_hi|)_r in row r (its rounding, hi's own and the dropped low part of a
-        normalised double-double, |w_lo| ≤ u|w_hi|).
+        normalised double-double, |w_lo| ≤ u|w_hi|). W = diag(1/√m) for the Taylor
+        matrices (so the norms multiply the vectors' mass-weighted norms ‖√m·w‖₂), the
+        identity for the Bessel steps (Euclidean norms).
     rest_lead, rest_hi : float
         ≥ ‖diag(√m·g')·|D₂ + D_lo|‖₂ and ‖diag(√m·g')·|hi|‖₂, g'_r = (γ_{2w_r} + 2u)(1 + 2u):
         the rounding of the ``rest`` product and of its two small terms.
@@ -138,16 +140,20 @@ def _pattern(n: int, rows: np.ndarray, cols: np.ndarray, columns: int | None = N
 
 
 def _weighted_norm(pattern: _Pattern, size: np.ndarray, weight: np.ndarray, n: int,
-                   columns: slice, refine: bool = False) -> float:
-    """≥ ‖G‖₂ for G = diag(weight)·|D[:, columns]| (entries ``size`` in CSR order):
-    √(‖G‖₁‖G‖∞), or (``refine``) the smaller of that and √ρ(GᵀG) by Collatz–Wielandt (15
-    power steps; irregular graphs, whose largest rows overstate the norm)."""
+                   columns: slice, refine: bool = False,
+                   col_weight: np.ndarray | None = None) -> float:
+    """≥ ‖G‖₂ for G = diag(weight)·|D[:, columns]|·diag(col_weight) (entries ``size`` in CSR
+    order; no column weights unless given): √(‖G‖₁‖G‖∞), or (``refine``) the smaller of
+    that and √ρ(GᵀG) by Collatz–Wielandt (15 power steps; irregular graphs, whose largest
+    rows overstate the norm)."""
     import scipy.sparse as sps
 
     lo, hi = columns.start or 0, columns.stop or pattern.shape[1]
     kept = (pattern.cols >= lo) & (pattern.cols < hi)
     rows, cols = pattern.rows[kept], pattern.cols[kept] - lo
     weighted = size[kept] * weight[rows]
+    if col_weight is not None:
+        weighted = weighted * col_weight[pattern.cols[kept]]
     width = hi - lo
     by_col = np.bincount(cols, weighted, minlength=width)
     by_row = np.bincount(rows, weighted, minlength=n)
@@ -160,7 +166,7 @@ def _weighted_norm(pattern: _Pattern, size: np.ndarray, weight: np.ndarray, n: i
 
 
 def _step_matrix(n: int, pattern: _Pattern, hi: np.ndarray, lo: np.ndarray, root: np.ndarray,
-                 refine: bool = False) -> StepMatrix:
+                 refine: bool = False, col_weight: np.ndarray | None = None) -> StepMatrix:
     import scipy.sparse as sps
 
     counts, width = pattern.counts, int(pattern.counts.max(initial=1)) or 1
@@ -182,8 +188,8 @@ def _step_matrix(n: int, pattern: _Pattern, hi: np.ndarray, lo: np.ndarray, root
     return StepMatrix(
         hi=pattern.csr(hi, n), sliced=pattern.csr(lead, n), rest=rest, bits=bits, width=width,
         beta=_weighted_norm(pattern, size, root, n, every),
-        float_x=_weighted_norm(pattern, size, g_float, n, x_part, refine),
-        float_v=_weighted_norm(pattern, size, g_float, n, v_part, refine),
+        float_x=_weighted_norm(pattern, size, g_float, n, x_part, refine, col_weight),
+        float_v=_weighted_norm(pattern, size, g_float, n, v_part, refine, col_weight),
         rest_lead=_weighted_norm(pattern, np.abs(rest_low) * (1 + 2 * U), g_rest, n, every, refine),
         rest_hi=_weighted_norm(pattern, size, g_rest, n, every, refine))
 
@@ -211,6 +217,11 @@ class KrylovData:
         √R: |x_i| ≤ √R·√(xᵀKx) for every x and i (inf where a part is not held).
     row_K, row_C : numpy.ndarray
         Absolute row sums of M⁻¹K and M⁻¹C (upper bounds); ``width`` B's longest row.
+    mass, stiffness : numpy.ndarray
+        Upper bounds on the masses m_i and on the absolute row sums s_i = Σ_j |K_ij|, so
+        that vᵀMv ≤ Σ_i mass_i·v_i² and xᵀKx ≤ Σ_i s_i·x_i² (|x_i x_j| ≤ (x_i² + x_j²)/2).
+    kappa : float
+        ≥ √max_i(s_i/m_i) (from ``row_K``): √(Σ s_i x_i²) ≤ κ·√(Σ m_i x_i²).
     z0 : tuple of numpy.ndarray
         The initial state as double-doubles (hi, lo), length 2n.
     """
@@ -231,6 +242,9 @@ class KrylovData:
     row_C: np.ndarray
     width: int
     z0: tuple[np.ndarray, np.ndarray]
+    mass: np.ndarray
+    stiffness: np.ndarray
+    kappa: float
 
 
 def step_length(nu: float) -> float:
@@ -351,14 +365,19 @@ def krylov_data(scene: Scene) -> KrylovData:
     zh, zl = np.concatenate([x0h, v0h]), np.concatenate([x0l, v0l])
     if not math.isfinite(energy) or np.max(np.abs(zh), initial=0.0) > _RANGE:
         raise FloatRangeError("the initial data are beyond what the krylov engine holds in float64")
+    inverse_root = np.tile(1 / root, 2)
+    row_K = np.bincount(pattern.rows, np.where(x_cols, size, 0.0), minlength=n) * (1 + 4 * U) * _MARGIN
+    stiffness = np.bincount(K.rows, np.abs(K.value), minlength=n) * (1 + 4 * U) * _MARGIN
     return KrylovData(
         n=n, H=H, theta=H * nu,
-        first=_step_matrix(n, pattern, *first, root),
-        later=_step_matrix(n, pattern, *later, root, refine=True),
+        first=_step_matrix(n, pattern, *first, root, col_weight=inverse_root),
+        later=_step_matrix(n, pattern, *later, root, refine=True, col_weight=inverse_root),
         matrix=pattern.csr(b_hi, n), nu=nu,
         norm_K=float(np.max(np.bincount(K.rows, np.abs(K.value), minlength=n), initial=0.0)) * (1 + 4 * U) * _MARGIN,
         m_min=float(m.min()) / _MARGIN if n else 1.0, m_max=float(m.max()) * _MARGIN if n else 1.0,
         energy=energy, compliance=_compliance(n, K),
-        row_K=np.bincount(pattern.rows, np.where(x_cols, size, 0.0), minlength=n) * (1 + 4 * U) * _MARGIN,
+        row_K=row_K,
         row_C=np.bincount(pattern.rows, np.where(x_cols, 0.0, size), minlength=n) * (1 + 4 * U) * _MARGIN,
-        width=int(pattern.counts.max(initial=1)) or 1, z0=(zh, zl))
+        width=int(pattern.counts.max(initial=1)) or 1, z0=(zh, zl),
+        mass=m * _MARGIN, stiffness=stiffness,
+        kappa=math.sqrt(float(row_K.max(initial=0.0))) * _MARGIN)

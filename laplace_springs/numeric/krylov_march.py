@@ -64,13 +64,12 @@ class KrylovMotion:
     def _next(self, j: int, state: tuple[np.ndarray, np.ndarray, float, float],
               terms: StepTerms) -> tuple[np.ndarray, np.ndarray, float, float]:
         """The state at step j + 1 from step j's terms, with its error bounds."""
-        d, stepper = self.data, self.stepper
+        d = self.data
         _, _, E, X = state
-        zh, zl, sum_energy, sum_x = stepper.advance(terms)
+        zh, zl, sum_energy, sum_x = self.stepper.advance(terms)
         root = math.sqrt(d.m_min)
-        scale = d.energy + E
-        local = stepper.tail * scale + terms.rounding + sum_energy
-        local_x = (stepper.tail / d.nu * scale + d.H * terms.rounding_x) / root + sum_x
+        local = terms.truncation + terms.rounding + sum_energy
+        local_x = terms.truncation_x + d.H * terms.rounding_x / root + sum_x
         carried = min(X + d.H * E / root, d.compliance * E)
         following = (zh, zl, (E + local) * (1 + 1e-12), (carried + local_x) * (1 + 1e-12))
         self._store(j + 1, following)
@@ -151,17 +150,16 @@ class KrylovMotion:
     def _bound(self, state: tuple[np.ndarray, np.ndarray, float, float], terms: StepTerms,
                s: np.ndarray, rounding: np.ndarray, order: int) -> np.ndarray:
         """The bound of a value at b + s of a step from ``state`` (module notes)."""
-        d, stepper = self.data, self.stepper
+        d = self.data
         _, _, E, X = state
         root = math.sqrt(d.m_min)
-        scale = d.energy + E
         if order == 0:
             carried = np.minimum(X + s * (E / root), d.compliance * E)
-            fixed = (stepper.tail / d.nu * scale + d.H * terms.rounding_x) / root
+            fixed = terms.truncation_x + d.H * terms.rounding_x / root
             clock = U * s * (d.energy / root)
         else:
             carried = np.full(s.shape, E / root)
-            fixed = (stepper.tail * scale + terms.rounding) / root
+            fixed = (terms.truncation + terms.rounding) / root
             clock = U * s * (d.nu * d.energy / root)
         return (carried + fixed + rounding + clock) * (1 + 1e-12) + _TINY
 

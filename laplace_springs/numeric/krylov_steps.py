@@ -14,23 +14,41 @@ rest in one float64 product [D₂ + D_lo | D_hi]·[w₁; w₂ + w_lo]), and kept
 double-double. Its rounding is at most β₂‖w₁‖ + β(‖w₂ + w_lo‖ + 2u‖w‖) in the energy
 norm, β and β₂ the norms of |D| and |D₂ + D_lo| weighted by √m_r·(γ_{2w_r} + 2u) per row.
 Once a float64 product's rounding, carried to the end of the series, is below
-Limits.krylov_step_error of the scene's energy N(z0) (a test on the terms' computed norms,
-so the switch is a function of the state alone), the remaining terms are plain float64
-products. Each term's rounding f_k enters the series as a perturbation g = (0, f_k) of the
-state's k-th term, which the later terms carry as Σ_{i=k}^{m} r^i Z^{i−k} g/i! (Z = HA, r
-the fraction of the step). That is r^k·φ_k(rZ)g less the series' tail, with φ_k(Z) =
-Σ_j Z^j/(j+k)! = ∫₀¹ e^{(1−s)Z} s^{k−1}/(k−1)! ds: the motion never increases N, so
-N(φ_k(rZ)g) ≤ N(g)/k!, and the tail is at most Σ_{i>m} θ^{i−k}/i! N(g) (N(Zg) ≤ θN(g)).
-The effect on the step is thus at most φ_k·N(f_k) in the energy norm, φ_k = 1/k! +
-θ^{−k}·tail(θ, m), and H·ψ_k·N(f_k)/√m_min on x (whose part is H times the v-part of the
-same sum from i = k + 1: ψ_k = 1/(k + 1)! + θ^{−k−1}·tail(θ, m)), for every r in [0, 1].
-(Summing θ^{i−k}/i! instead, as the triangle inequality alone gives, is about θ + 1 times
-larger over a step: e^θ against (θ + 1)e^θ.)
+Limits.krylov_step_error/256 of the scene's energy N(z0) (a test on the terms' computed
+norms, so the switch is a function of the state alone), the remaining terms are plain
+float64 products, whose rounding N(f_k) ≤ F_x‖U_{k−2}‖_m + F_v‖U_{k−1}‖_m with
+‖u‖_m = ‖√m·u‖₂ and F the norms of diag(√m·g)|D|diag(1/√m) (:mod:`.krylov_data`).
+
+*The step's error, exactly.* With Z = HA and s_k = (H·U_{k−1}, U_k) (s_0 = ẑ), the
+computed terms obey s_k = Z s_{k−1} + g_k, g_k = (0, f_k) the rounding of term k, and the
+step sums S(r) = Σ_{k≤m} r^k s_k/k!. Unrolling, s_k = Z^k ẑ + Σ_{i≤k} Z^{k−i} g_i, and with
+φ_k(Z) = Σ_j Z^j/(j + k)! = ∫₀¹ e^{(1−s)Z} s^{k−1}/(k−1)! ds the tails of the perturbations
+cancel against the tail of ẑ's series:
+
+    e^{rZ}ẑ − S(r) = r^{m+1}φ_{m+1}(rZ)·Z s_m − Σ_{i=1}^{m} r^i φ_i(rZ)·g_i,
+
+(Σ_{k=i}^{m} r^k Z^{k−i}/k! = r^i(φ_i(rZ) − (rZ)^{m+1−i}φ_{m+1}(rZ)), and Z s_m =
+Z^{m+1}ẑ + Σ_{i≤m} Z^{m+1−i}g_i). The
+motion never increases N, so N(φ_k(rZ)y) ≤ N(y)/k!, and N(Z y) ≤ θN(y): the error of the
+step is at most θ·N(s_m)/(m + 1)! + Σ_i N(g_i)/i! for every r in [0, 1], with N(s_m)
+from the computed vectors through xᵀKx ≤ Σ_i s_i x_i², s_i = Σ_j |K_ij| (an a posteriori
+truncation: well below the a priori tail(θ, m)·N(ẑ) where the motion's top frequency is
+below ν or little excited). On x, the x part of φ_k(rZ)y is y_x/k! + rH·(φ_{k+1}(rZ)y)_v
+and |v_i| ≤ N/√m_min: the truncation adds H‖U_m‖∞/(m + 1)! + Hθ·N(s_m)/((m + 2)!√m_min)
+and g_i (no x part) H·N(g_i)/((i + 1)!√m_min). m itself is still chosen a priori
+(tail(θ, m) ≤ Limits.krylov_step_error/8).
 
 *The next state* is the series at r = 1, Σ_k W_k U_k with the exact weights W_k (H/(k+1)!
 for x, 1/k! for v), formed with the same split on the terms scaled by 2^(−s_k) ≈ 1/k!
 (exactly): the leading slices' products with the weights' leading slices are exact in one
-BLAS product, the rest is a second product off by about 2^-60 of the largest scaled term.
+BLAS product, the rest is a second product off by about 2^-70 of the largest scaled term
+(its bound counts only the e + 1 rows summed this way). The float64 terms after them are
+multiplied by their weights and accumulated from the last (smallest) up, in that order, so
+term k passes k − e additions: |g| ≤ Σ_k γ_{k−e+2}|W_k||U_k| per coordinate, dominated by
+the first of them (a BLAS product, in any order, would need γ_{m−e} on every term). The
+bounds are formed per coordinate and taken into N with the weights s_i and m_i above (κ
+for the float terms' x part, κ² ≥ max_i s_i/m_i), not √‖K‖ and √m_max against Euclidean
+norms, which on spread masses cost the factor √(m_max/m_min).
 
 *Values* inside the step are the series in float64 from the leading parts, summed from
 the last term down so that the large early terms pass through few additions: the
@@ -78,8 +96,10 @@ class StepTerms:
     """One step's terms (rows of ``hi``/``lo``: 0 is x̂, k + 1 is U_k) and its roundings.
 
     ``rounding`` is Σ_k φ_k N(f_k) (energy norm) and ``rounding_x`` Σ_k ψ_k N(f_k);
-    ``sup`` the max-norm of every row of ``hi``; ``extended`` the number of terms formed
-    in double-double (k = 1..extended)."""
+    ``truncation`` and ``truncation_x`` bound the series' tail in N and on max|x|;
+    ``sup``, ``norms`` and ``mass_norms`` the max-norm, Euclidean norm and mass-weighted
+    norm ‖√m·u‖₂ of every row of ``hi`` (the Euclidean ones of the double-double rows
+    only); ``extended`` the number of terms formed in double-double (k = 1..extended)."""
 
     hi: np.ndarray
     lo: np.ndarray
@@ -88,6 +108,9 @@ class StepTerms:
     rounding_x: float
     sup: np.ndarray
     norms: np.ndarray
+    mass_norms: np.ndarray
+    truncation: float
+    truncation_x: float
 
 
 def _csr_kernel() -> Any:
@@ -158,11 +181,13 @@ class Stepper:
             m += 1
         self.m = m
         self.tail = tail(theta, m)
-        # φ_k, ψ_k (module notes): 1/k! from the contraction, plus the series' tail
-        rest = [tail(theta, m) / theta**k if theta > 0 else 0.0 for k in range(m + 2)]
-        self.phi = np.array([1 / math.factorial(k) + rest[k] for k in range(m + 1)]) * (1 + 1e-12)
-        self.psi = np.array([1 / math.factorial(k + 1) + rest[k + 1] for k in range(m + 1)]) * (1 + 1e-12)
-        self.switch = budget / 16 * data.energy
+        # φ_k = 1/k!, ψ_k = 1/(k + 1)! (module notes: the truncation is bounded apart)
+        self.phi = np.array([1 / math.factorial(k) for k in range(m + 1)]) * (1 + 1e-12)
+        self.psi = np.array([1 / math.factorial(k + 1) for k in range(m + 1)]) * (1 + 1e-12)
+        self._cut = (theta * (1 + 1e-12) / math.factorial(m + 1),
+                     data.H * (1 + 1e-12) / math.factorial(m + 1),
+                     data.H * theta * (1 + 1e-12) / (math.factorial(m + 2) * math.sqrt(data.m_min)))
+        self.switch = budget / 256 * data.energy
         self._weights()
         self.hi = np.zeros((m + 2, n))
         self.lo = np.zeros((m + 2, n))
@@ -172,6 +197,7 @@ class Stepper:
         self._scratch = np.zeros(n)
         self._sup = np.zeros(m + 2)
         self._norms = np.zeros(m + 2)
+        self._mass_norms = np.zeros(m + 2)
         self._stack = np.zeros((3 * (m + 1), n))
         self._kernel = _csr_kernel()
 
@@ -193,51 +219,63 @@ class Stepper:
         w1 = (wh + sigma) - sigma
         self.w1 = np.ascontiguousarray(w1)
         self.w_rest = np.ascontiguousarray(np.vstack([(wh - w1) + wl, w1, wh]))
-        q, L = 2.0**-self.sum_bits, 3 * (m + 1)
-        gamma = L * U / (1 - L * U)
-        total = np.sum(np.abs(wh), axis=0)
-        omega = gamma * ((m + 1) * (q + U) * (1 + U) * largest + (q + U) * total
-                         + (m + 1) * q * q * largest) \
-            + U * (q + U) * (m + 1) * largest + (U * U + 2.0**-104) * total
-        self.omega = omega * (1 + 1e-9)   # per column (x, v): |g_ic| ≤ omega_c·colmax_i
+        # omega[e] for the e + 1 terms U_0..U_e summed with the split (R = e + 1 rows,
+        # 3R products in the rest): per column (x, v), |g_ic| ≤ omega[e, c]·colmax_i
+        q = 2.0**-self.sum_bits
+        R = np.arange(1, m + 2, dtype=float)[:, None]
+        gamma = 3 * R * U / (1 - 3 * R * U)
+        total = np.cumsum(np.abs(wh), axis=0)
+        omega = gamma * (R * (q + U) * (1 + U) * largest + (q + U) * total + R * q * q * largest) \
+            + U * (q + U) * R * largest + (U * U + 2.0**-104) * total
+        self.omega = omega * (1 + 1e-9)
         # the float64 terms' weights W_k (unscaled) and their product's rounding
         self.w_float = np.array([[float(H / math.factorial(k + 1)) if k < m else 0.0,
                                   1 / math.factorial(k)] for k in range(m + 1)])
-        self.float_gamma = ((m + 2) * U / (1 - (m + 2) * U) + 2 * U) * (1 + 2 * U)
+        self._products = np.zeros((m + 1, self.data.n, 2))
 
     # -- the terms ----------------------------------------------------------------------
     def terms(self, zh: np.ndarray, zl: np.ndarray) -> StepTerms:
         """The terms of the step from ẑ = zh + zl and the bound on their rounding."""
         d, m = self.data, self.m
         n = d.n
-        hi, lo, sup, norms = self.hi, self.lo, self._sup, self._norms
+        hi, lo, sup, norms, mass = self.hi, self.lo, self._sup, self._norms, self._mass_norms
+        weight = d.mass
         hi[0], hi[1] = zh[:n], zh[n:]
         lo[0], lo[1] = zl[:n], zl[n:]
         lo[2:] = 0.0
+        norms[2:] = 0.0
         for row in (0, 1):
             sup[row] = self._row_sup(row)
             norms[row] = math.sqrt(float(hi[row] @ hi[row]))
+            mass[row] = math.sqrt(float(hi[row] @ (weight * hi[row])))
         rounding = np.zeros(m + 1)
         count = m
+        L = d.later
         for k in range(1, m + 1):
             rounding[k] = self._extended(d.first if k == 1 else d.later, k)
             sup[k + 1] = self._row_sup(k + 1)
             norms[k + 1] = math.sqrt(float(hi[k + 1] @ hi[k + 1]))
-            L = d.later
-            if k < m and (L.float_x * norms[k] + L.float_v * norms[k + 1]) * self.phi[k + 1] <= self.switch:
+            mass[k + 1] = math.sqrt(float(hi[k + 1] @ (weight * hi[k + 1])))
+            if k < m and (L.float_x * mass[k] + L.float_v * mass[k + 1]) * self.phi[k + 1] <= self.switch:
                 count = k
                 break
         for k in range(count + 1, m + 1):      # the float64 terms
             _csr_into(d.later.hi, hi[k - 1:k + 1].reshape(-1), hi[k + 1], self._kernel)
         if count < m:
             rows = hi[count + 2:]
-            norms[count + 2:] = np.sqrt(np.einsum("ij,ij->i", rows, rows))
+            mass[count + 2:] = np.sqrt(np.einsum("ij,ij,j->i", rows, rows, weight))
             sup[count + 2:] = np.max(np.abs(rows), axis=1)
-            L = d.later
-            rounding[count + 1:] = L.float_x * norms[count:m] + L.float_v * norms[count + 1:m + 1]
+            rounding[count + 1:] = (L.float_x * mass[count:m] + L.float_v * mass[count + 1:m + 1]) * (1 + 1e-12)
+        # the tail: N(Z s_m)/(m + 1)! with s_m = (H·U_{m−1}, U_m) (module notes);
+        # N(s_m)² ≤ H²·Σ s_i U_{m−1,i}² + Σ m_i U_{m,i}², |hi + lo| ≤ (1 + u)|hi|
+        last, before = hi[m + 1], hi[m]
+        state = math.sqrt(d.H * d.H * float(before @ (d.stiffness * before))
+                          + float(last @ (weight * last))) * (1 + 4 * U) * (1 + 1e-12)
+        cut, cut_x, cut_v = self._cut
         return StepTerms(hi, lo, count, float(self.phi @ rounding) * (1 + 1e-12),
                          float(self.psi @ rounding) * (1 + 1e-12), sup.copy(),
-                         norms * (1 + 1e-12))
+                         norms * (1 + 1e-12), mass * (1 + 1e-12), cut * state + _TINY,
+                         cut_x * sup[m + 1] * (1 + 2 * U) + cut_v * state + _TINY)
 
     def _row_sup(self, row: int) -> float:
         values = self.hi[row]
@@ -279,27 +317,36 @@ class Stepper:
         exact = lead.T @ self.w1[:rows]
         weights = np.vstack([self.w_rest[k * (m + 1):k * (m + 1) + rows] for k in range(3)])
         rest = stack.T @ weights
-        float_x = float_v = float_xinf = 0.0
+        float_energy = float_xinf = 0.0
         if e < m:                          # the float64 terms U_{e+1}..U_m
+            # W_k·U_k summed from the last (smallest) term up, in that order (accumulate
+            # is sequential): term k passes k − e additions, so |g| ≤ Σ_k γ_{k−e+2}|W_k||U_k|
+            # per coordinate (with W_k's and the product's rounding); in N, κ·‖·‖_m for x
+            # and ‖·‖_m for v
             tail_weights = self.w_float[e + 1:]
-            rest += terms.hi[e + 2:].T @ tail_weights
-            sizes = np.abs(tail_weights)
-            float_x, float_v = sizes.T @ terms.norms[e + 2:]
-            float_xinf = float(sizes[:, 0] @ terms.sup[e + 2:])
-            float_x, float_v, float_xinf = (self.float_gamma * v for v in (float_x, float_v, float_xinf))
+            count = m - e
+            products = self._products[:count]
+            np.multiply(terms.hi[:e + 1:-1, :, None], tail_weights[::-1, None, :], out=products)
+            np.add.accumulate(products, axis=0, out=products)
+            rest += products[-1]
+            passes = np.arange(3, count + 3, dtype=float)
+            sizes = np.abs(tail_weights) * (passes * U / (1 - passes * U))[:, None]
+            float_energy = float((d.kappa * sizes[:, 0] + sizes[:, 1]) @ terms.mass_norms[e + 2:]) * (1 + 1e-12)
+            float_xinf = float(sizes[:, 0] @ terms.sup[e + 2:]) * (1 + 1e-12)
         sh, sl = two_sum(exact, rest)
         xh, xl = dd_add(terms.hi[0], terms.lo[0], sh[:, 0], sl[:, 0])
         vh, vl = sh[:, 1], sl[:, 1]
-        size2 = math.sqrt(float(colmax @ colmax)) + _TINY * math.sqrt(n)
+        omega_x, omega_v = self.omega[e]
         top = float(colmax.max(initial=0.0)) + _TINY
-        rest_x = math.sqrt(float(rest[:, 0] @ rest[:, 0]))
-        rest_v = math.sqrt(float(rest[:, 1] @ rest[:, 1]))
-        g_x2 = (self.omega[0] * size2 + float_x + 2 * U * rest_x
-                + 2.0**-104 * (terms.norms[0] + math.sqrt(float(sh[:, 0] @ sh[:, 0]))))
-        g_v2 = self.omega[1] * size2 + float_v + 2 * U * rest_v
-        g_xinf = (self.omega[0] * top + float_xinf + 2 * U * float(np.max(np.abs(rest[:, 0]), initial=0.0))
+        # per coordinate bounds on the x and v parts of the sum's rounding, and their
+        # N-norm through xᵀKx ≤ Σ s_i x_i², vᵀMv ≤ Σ m_i v_i² (krylov_data)
+        g_x = (omega_x * colmax + 2 * U * np.abs(rest[:, 0])
+               + 2.0**-104 * (np.abs(terms.hi[0]) + np.abs(sh[:, 0])))
+        g_v = omega_v * colmax + 2 * U * np.abs(rest[:, 1])
+        g_xinf = (omega_x * top + float_xinf + 2 * U * float(np.max(np.abs(rest[:, 0]), initial=0.0))
                   + 2.0**-104 * (terms.sup[0] + float(np.max(np.abs(sh[:, 0]), initial=0.0))))
-        energy = math.sqrt(d.m_max) * g_v2 + math.sqrt(d.norm_K) * g_x2
+        energy = (math.sqrt(float(g_x @ (d.stiffness * g_x))) + math.sqrt(float(g_v @ (d.mass * g_v)))
+                  + float_energy + _TINY * math.sqrt(n * (d.m_max + d.norm_K)))
         state_h = np.concatenate([xh, vh])
         state_l = np.concatenate([xl, vl])
         return state_h, state_l, energy * (1 + 1e-12), g_xinf * (1 + 1e-12)
