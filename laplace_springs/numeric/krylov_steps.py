@@ -42,10 +42,11 @@ and g_i (no x part) H·N(g_i)/((i + 1)!√m_min). m itself is still chosen a pri
 for x, 1/k! for v), formed with the same split on the terms scaled by 2^(−s_k) ≈ 1/k!
 (exactly): the leading slices' products with the weights' leading slices are exact in one
 BLAS product, the rest is a second product off by about 2^-70 of the largest scaled term
-(its bound counts only the e + 1 rows summed this way). The float64 terms after them are
-multiplied by their weights and accumulated from the last (smallest) up, in that order, so
-term k passes k − e additions: |g| ≤ Σ_k γ_{k−e+2}|W_k||U_k| per coordinate, dominated by
-the first of them (a BLAS product, in any order, would need γ_{m−e} on every term). The
+(its bound counts only the e + 1 rows summed this way). Of the float64 terms after them,
+all but the first two go into one float64 product, then the second and the first are added
+in turn: |g| ≤ γ_4|W_{e+1}U_{e+1}| + γ_5|W_{e+2}U_{e+2}| + γ_{m−e+2}Σ_{k>e+2}|W_k||U_k| per
+coordinate, dominated by the first terms (one product of all, in any order, would need
+γ_{m−e+2} on every term, about ten times more on the spread networks of the tests). The
 bounds are formed per coordinate and taken into N with the weights s_i and m_i above (κ
 for the float terms' x part, κ² ≥ max_i s_i/m_i), not √‖K‖ and √m_max against Euclidean
 norms, which on spread masses cost the factor √(m_max/m_min).
@@ -231,7 +232,6 @@ class Stepper:
         # the float64 terms' weights W_k (unscaled) and their product's rounding
         self.w_float = np.array([[float(H / math.factorial(k + 1)) if k < m else 0.0,
                                   1 / math.factorial(k)] for k in range(m + 1)])
-        self._products = np.zeros((m + 1, self.data.n, 2))
 
     # -- the terms ----------------------------------------------------------------------
     def terms(self, zh: np.ndarray, zl: np.ndarray) -> StepTerms:
@@ -319,17 +319,22 @@ class Stepper:
         rest = stack.T @ weights
         float_energy = float_xinf = 0.0
         if e < m:                          # the float64 terms U_{e+1}..U_m
-            # W_k·U_k summed from the last (smallest) term up, in that order (accumulate
-            # is sequential): term k passes k − e additions, so |g| ≤ Σ_k γ_{k−e+2}|W_k||U_k|
-            # per coordinate (with W_k's and the product's rounding); in N, κ·‖·‖_m for x
-            # and ‖·‖_m for v
+            # the terms after the first two in one float64 product (any order: γ_{L−2}
+            # on each, L = m − e), then the second and the first added in turn, then the
+            # whole to rest: with the weights' rounding, |g| ≤ γ_4|W_{e+1}U_{e+1}|
+            # + γ_5|W_{e+2}U_{e+2}| + γ_{L+2}Σ_{k>e+2}|W_k U_k| per coordinate (the first
+            # terms dominate); in N, κ·‖·‖_m for x and ‖·‖_m for v
             tail_weights = self.w_float[e + 1:]
             count = m - e
-            products = self._products[:count]
-            np.multiply(terms.hi[:e + 1:-1, :, None], tail_weights[::-1, None, :], out=products)
-            np.add.accumulate(products, axis=0, out=products)
-            rest += products[-1]
-            passes = np.arange(3, count + 3, dtype=float)
+            if count > 2:
+                total = terms.hi[e + 4:].T @ tail_weights[2:]
+            else:
+                total = np.zeros((n, 2))
+            for k in range(min(count, 2) - 1, -1, -1):
+                total += terms.hi[e + 2 + k][:, None] * tail_weights[k][None, :]
+            rest += total
+            passes = np.full(count, count + 2.0)
+            passes[:2] = (4.0, 5.0)[:min(count, 2)]
             sizes = np.abs(tail_weights) * (passes * U / (1 - passes * U))[:, None]
             float_energy = float((d.kappa * sizes[:, 0] + sizes[:, 1]) @ terms.mass_norms[e + 2:]) * (1 + 1e-12)
             float_xinf = float(sizes[:, 0] @ terms.sup[e + 2:]) * (1 + 1e-12)
