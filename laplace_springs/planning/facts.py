@@ -85,6 +85,10 @@ class SceneFacts:
         else None.
     pole_bound : float or None
         A verified upper bound on every |λ| with det(λ²M + λC + K) = 0 (same condition).
+    mean_decay : float or None
+        tr(M⁻¹C)/2n, the mean of −Re λ over the 2n poles (Σ λ = −tr(M⁻¹C)): the slowest
+        mode decays no faster (same condition; float64, not verified: the planner's
+        expectations read it).
     sampled : bool
         A force is a sampled history.
     periodic : bool
@@ -107,6 +111,7 @@ class SceneFacts:
     diagonal_mass: bool = False
     stiffness_bound: float | None = None
     pole_bound: float | None = None
+    mean_decay: float | None = None
     sampled: bool = False
     periodic: bool = False
     quotes: tuple[Quote, ...] = ()
@@ -157,9 +162,10 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
         facts = table["facts"] = replace(facts, krylov=krylov_refusal(scene) is None)
     if method in _DAMPING_METHODS and facts.classical is None:
         rayleigh, classical = _damping_class(scene)
-        stiffness, poles = _bounds(scene) if facts.diagonal_mass else (None, None)
+        stiffness, poles, decay = _bounds(scene) if facts.diagonal_mass else (None, None, None)
         facts = table["facts"] = replace(facts, rayleigh=rayleigh, classical=classical,
-                                         stiffness_bound=stiffness, pole_bound=poles)
+                                         stiffness_bound=stiffness, pole_bound=poles,
+                                         mean_decay=decay)
     if method == "refined" and facts.quote("refined") is None and facts.classical:
         facts = table["facts"] = replace(facts, quotes=facts.quotes + (_refined_quote(scene),))
     return facts
@@ -193,8 +199,8 @@ def _facts(scene: Scene) -> SceneFacts:
         nnz += len(read if read is not None else scene_entries(scene, name))
     # the spectral bounds are read by the symmetric and krylov engines' models: asked with
     # the damping class
-    stiffness, poles = _bounds(scene) if rational and diagonal and classical is not None \
-        else (None, None)
+    stiffness, poles, decay = _bounds(scene) if rational and diagonal and classical is not None \
+        else (None, None, None)
     quotes = ((_refined_quote(scene),) if classical and not symbolic and not tiny else ()) + (
         (tiny_quote,) if tiny_quote is not None else ())
     return SceneFacts(n=scene.n, symbolic=symbolic, forced=forced,
@@ -202,7 +208,7 @@ def _facts(scene: Scene) -> SceneFacts:
                       classical=classical, rayleigh=rayleigh,
                       krylov=_krylov_serves(scene) if unforced and rational else False,
                       nnz=nnz, diagonal_mass=diagonal, stiffness_bound=stiffness,
-                      pole_bound=poles, sampled=sampled, quotes=quotes,
+                      pole_bound=poles, mean_decay=decay, sampled=sampled, quotes=quotes,
                       periodic=scene.forcing is not None and scene.forcing.has(Periodic))
 
 
@@ -242,8 +248,9 @@ def _refined_quote(scene: Scene) -> Quote:
     return Quote("refined", None, build, refined_cost(scene, t_max=0.0, count=1, order=0) - build)
 
 
-def _bounds(scene: Scene) -> tuple[float | None, float | None]:
-    """Verified bounds on λ_max(M⁻¹K) and on |λ| for a diagonal positive rational M.
+def _bounds(scene: Scene) -> tuple[float | None, float | None, float | None]:
+    """Verified bounds on λ_max(M⁻¹K) and on |λ| for a diagonal positive rational M, and
+    the poles' mean decay rate tr(M⁻¹C)/2n.
 
     With D = M^{1/2}, the poles are those of the first-order operator in the energy
     norm, whose norm is at most √ρ(D⁻¹|K|D⁻¹) + ρ(D⁻¹|C|D⁻¹) (each spectral radius below a
@@ -254,7 +261,7 @@ def _bounds(scene: Scene) -> tuple[float | None, float | None]:
     M, C, K = (entries_of(scene, name) for name in ("M", "C", "K"))
     assert M is not None and C is not None and K is not None
     if M.rows.size == 0 or float(M.value.min()) <= 0:
-        return None, None
+        return None, None, None
     root = np.zeros(n)
     root[M.rows] = np.sqrt(M.value)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -263,5 +270,7 @@ def _bounds(scene: Scene) -> tuple[float | None, float | None]:
     stiffness = float(rows_K.max(initial=0.0)) * _MARGIN**3
     damping = float(rows_C.max(initial=0.0)) * _MARGIN**3
     if not (math.isfinite(stiffness) and math.isfinite(damping)):
-        return None, None
-    return stiffness, (math.sqrt(stiffness) + damping) * _MARGIN
+        return None, None, None
+    on_diagonal = C.rows == C.cols
+    decay = float((C.value[on_diagonal] / np.square(root[C.rows[on_diagonal]])).sum()) / (2 * n)
+    return stiffness, (math.sqrt(stiffness) + damping) * _MARGIN, decay

@@ -143,10 +143,13 @@ def test_non_classical_damping_takes_the_general_route():
         springs={f"k{i}": (p, q, 1) for i, (p, q) in enumerate(zip(nodes, nodes[1:]))},
         dashpots={"c": ("ground", "m3", "1/10")}, x0={"m1": 1})
     assert classical_damping(scene) and not classical_damping(one_dashpot)
-    sol = ls.solve(one_dashpot)
-    assert isinstance(sol.motion, ModalMotion) and "classically" not in sol.reason
+    sol = ls.solve(one_dashpot)  # one light dashpot: krylov for the default horizon t = 100
+    assert sol.method in ("modal", "krylov") and "classically" not in sol.reason
+    general = ls.solve(one_dashpot, method="modal")
+    assert isinstance(general.motion, ModalMotion)
     reference = reference_motion(one_dashpot, list(TIMES[:4]), dps=30)
-    assert np.max(np.abs(sol.evaluate(TIMES[:4]) - reference)) < 1e-12
+    for found in (sol, general):
+        assert np.max(np.abs(found.evaluate(TIMES[:4]) - reference)) < 1e-12
 
 
 def test_x_beyond_the_closed_form_size_is_a_modal_form():

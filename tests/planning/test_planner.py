@@ -104,6 +104,37 @@ def test_a_named_method_restricts_the_primary_and_keeps_escalation_open():
         plan(facts, Request(), method="fastest")
 
 
+def test_the_modal_engine_is_expected_to_miss_while_a_light_mode_is_alive():
+    """The modal engine's bound grows with t while the slowest mode is alive (its rate at
+    most the poles' mean decay tr(M⁻¹C)/2n): a lightly damped non-classical network goes to
+    krylov for long horizons and keeps modal for short ones; a heavily damped one keeps it."""
+    light = SceneFacts(n=20, nnz=80, **{**RAYLEIGH, "classical": False, "rayleigh": False,
+                                         "pole_bound": 8.0, "mean_decay": 0.02})
+    heavy = SceneFacts(n=20, nnz=80, **{**RAYLEIGH, "classical": False, "rayleigh": False,
+                                         "pole_bound": 8.0, "mean_decay": 1.0})
+    expects = ls.planning.engines.engine("modal").expectation
+    assert expects(light, Request(count=100, t_max=1.0)) is None
+    assert "expected to miss" in expects(light, Request(count=100, t_max=50.0))
+    assert expects(heavy, Request(count=100, t_max=50.0)) is None
+    assert plan(light, Request(count=100, t_max=50.0)).primary == "krylov"
+    assert plan(heavy, Request(count=100, t_max=50.0)).primary == "modal"
+
+
+def test_the_mean_decay_of_the_facts_is_that_of_the_poles():
+    """facts.mean_decay against −mean(Re λ) of NumPy's eigenvalues of the first-order matrix."""
+    scene = ls.Scene.from_components(
+        masses={"a": 1, "b": "2", "c": "1/2"},
+        springs={"k0": ("wall", "a", 3), "k1": ("a", "b", 1), "k2": ("b", "c", 2),
+                 "k3": ("c", "wall", 1), "k4": ("a", "c", "1/2")},
+        dashpots={"c0": ("a", "b", "1/10"), "c1": ("c", "wall", "3/10")},
+        x0=[1, 0, 0], v0=[0, 0, 0])
+    facts = ls.planning.facts.scene_facts(scene, "modal")
+    M, C, K = (np.array(m, dtype=float) for m in (scene.M, scene.C, scene.K))
+    Z = np.block([[np.zeros((3, 3)), np.eye(3)],
+                  [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+    assert math.isclose(facts.mean_decay, -np.linalg.eigvals(Z).real.mean(), rel_tol=1e-12)
+
+
 def test_a_tiny_scene_leaves_its_damping_class_unasked_until_an_engine_needs_it():
     """The seed's Example 2 pair (C = M/5: Rayleigh, classical). Auto plans without the
     exact damping check; a named symmetric engine asks it and serves, with the values the
