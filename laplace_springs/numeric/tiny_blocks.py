@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -486,6 +487,7 @@ class BlockMotion:
             return (E * (g_C + t * g_S)).real
         return (E * (np.cosh(root * t) * g_C + (np.sinh(root * t) / root) * g_S)).real
 
+    @cached_property
     def _growth_constants(self) -> tuple[float, float]:
         """(K, ν) with ‖e^{Bτ}‖ ≤ e^{μτ}·min(K, 1 + ντ) =: e^{μτ}q(τ), q nondecreasing.
 
@@ -527,7 +529,7 @@ class BlockMotion:
                                             * (self.c_norm + self.rho0) * G)
             return bounds
         floor = np.multiply.outer(weights.size, tiny)
-        K, nu = self._growth_constants()
+        K, nu = self._growth_constants
         nu_t = nu * t
         q = np.minimum(K, 1 + nu_t)
         spread = decay * np.exp(q * phi * t)
@@ -542,7 +544,7 @@ class BlockMotion:
         # of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their envelopes
         # (|C| ≤ 1·, |S| ≤ t·), the libm by 4u; and the rounding δd of d: |∂C/∂d| =
         # t|S|/2 ≤ t²/2·, |∂S/∂d| ≤ t³/4·cosh(√|d|·t) (the series) with s = max |√d|
-        largest = max(abs(block.root) for block, *_ in weights.doubles)
+        largest = weights.largest_root
         rounding = decay * (shift + (2 * largest * t + 4) * U)
         bounds += np.multiply.outer(weights.single_size + weights.double_C, rounding)
         bounds += np.multiply.outer(weights.double_S, rounding * t)
@@ -596,3 +598,5 @@ class _Order:
         self.d_S = sum((block.weight * block.d_error * Nc_norm * rows
                         for block, _, _, (rows, _, Nc_norm) in doubles), zero)
         self.size = self.single_size + self.double_C + self.double_S
+        #: max |√d| over the evaluated 2 x 2 blocks
+        self.largest_root = max(abs(block.root) for block, *_ in doubles)
