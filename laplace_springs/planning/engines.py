@@ -221,7 +221,7 @@ def _modal_expectation(facts: SceneFacts, request: Request) -> str | None:
     (measured on damped chains of 2 to 50 masses, t = 1, 10, 100: 1.4e-14 at 2 masses, 1e-13
     to 1.4e-13 at 50). While a mode is alive it grows like its eigenvalue's error times t,
     about u·ρ·n·t (lightly damped chains and meshes of 5 to 30 masses, one or a few light
-    dashpots: 1e-13 to 3.5e-12 at t = 10 to 100, three times that estimate at most; the
+    dashpots: 1e-13 to 3.5e-12 at t = 10 to 100, up to four times that estimate; the
     executor then recomputes most times with another engine). The slowest mode decays no
     faster than the poles' mean rate ᾱ = tr(M⁻¹C)/2n, so the growth is counted up to t
     where ᾱ·t < 5 (heavily damped networks, ᾱ·t ≥ 6 at t = 10: 3e-15 to 1.3e-13, counted
