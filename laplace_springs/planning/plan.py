@@ -2,8 +2,9 @@
 
 :func:`plan` takes the cheapest float64 engine that serves the request (its primary), the
 engines that serve the times beyond the primary's horizon, and the escalation chain for
-the times whose bound misses the target: the refined engine, then the other float64
-engines, then the arbitrary-precision ones. ``solve`` and ``Solution.evaluate`` only
+the times whose bound misses the target: the engines that reach a tighter bound and are
+expected to meet the target, cheapest first (by their costs for the default request, so that
+a time's engine does not depend on the other times of a call), then the others. ``solve`` and ``Solution.evaluate`` only
 execute plans (:mod:`laplace_springs.planning.execute`).
 """
 
@@ -17,7 +18,7 @@ from typing import Any
 from ..limits import limits
 from .engines import ENGINE_NAMES, ENGINES, Cost, Engine, Refusal, engine
 from .facts import SceneFacts
-from .request import Request
+from .request import DEFAULT_REQUEST, Request
 
 __all__ = ["Plan", "plan", "METHODS", "FAMILIES"]
 
@@ -97,7 +98,8 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
     request and is not expected to miss the target (or the cheapest that serves, when
     none is expected to meet it); engines with a longer horizon follow for the times
     beyond it; then, for times whose bound misses the target, every engine that reaches a
-    tighter bound than the primary (the refined engine first, then by cost), then the
+    tighter bound than the primary and is expected to meet the target (cheapest for the
+    default request first), then the
     others (a primary that misses badly is recovered by any engine that does better).
 
     Parameters
@@ -119,8 +121,8 @@ def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
     ...                    classical=True, rayleigh=True, krylov=True, nnz=800,
     ...                    diagonal_mass=True, stiffness_bound=4.0, pole_bound=2.0,
     ...                    quotes=(Quote("refined", None, 0.05, 2e-4),))
-    >>> plan(facts, Request(count=10, t_max=50.0)).chain[:2]
-    ('chebyshev', 'refined')
+    >>> plan(facts, Request(count=10, t_max=50.0)).chain[:3]
+    ('chebyshev', 'krylov', 'refined')
     >>> plan(facts, Request(count=2, t_max=1e6)).primary
     'refined'
     """
@@ -163,7 +165,10 @@ def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str
     horizons = {e.name: e.horizon(facts, request) for e in serving}
     # a named engine or family restricts the float64 primary; digits come from tier 2
     wanted = FAMILIES.get(method, (method,)) if method != "auto" and request.dps is None else None
-    chain = _chain(serving, costs, horizons, facts, request, wanted)
+    # the escalation order is the scene's, not the request's (costs for the default
+    # request): a time's engine then never depends on the other times of a call
+    order = {e.name: _cost(e, facts, DEFAULT_REQUEST, built).seconds for e in serving}
+    chain = _chain(serving, costs, horizons, facts, request, wanted, order)
     return Plan(request, method, chain, horizons, costs, tuple(refusals),
                 _reason(chain, costs, method, facts, request, refusals))
 
@@ -174,8 +179,10 @@ def _cost(entry: Engine, facts: SceneFacts, request: Request, built: frozenset[s
 
 
 def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, float],
-           facts: SceneFacts, request: Request, wanted: tuple[str, ...] | None) -> tuple[str, ...]:
-    """Primary, then cover of the times beyond its horizon, then escalation."""
+           facts: SceneFacts, request: Request, wanted: tuple[str, ...] | None,
+           order: dict[str, float]) -> tuple[str, ...]:
+    """Primary, then cover of the times beyond its horizon, then escalation (ordered by
+    ``order``, the engines' costs for the default request)."""
     def key(e: Engine) -> float:
         return costs[e.name].seconds
 
@@ -198,12 +205,18 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
     beyond = sorted((e for e in rest if e.tier == primary.tier
                      and horizons[primary.name] < request.t_max < math.inf
                      and horizons[e.name] > horizons[primary.name]), key=key)
-    # an engine expected to miss the target too is worth trying only when it is cheap
-    budget = _ESCALATION_BUDGET * max(key(primary), 1e-3)
+    # the engines that reach further than the primary and are expected to meet the target,
+    # cheapest first, then the rest; an engine expected to miss the target too is worth
+    # trying only when it is cheap. Judged for the default request, not this one: the
+    # order is the scene's, so a time's engine does not depend on the other times of a call
+    budget = _ESCALATION_BUDGET * max(order[primary.name], 1e-3)
+
+    def misses(e: Engine) -> bool:
+        return e.expectation(facts, DEFAULT_REQUEST) is not None
+
     escalation = sorted((e for e in rest if e not in beyond
-                         and (e.expectation(facts, request) is None or key(e) <= budget)),
-                        key=lambda e: (e.tier != 1, e.precision >= primary.precision,
-                                       e.expectation(facts, request) is not None, key(e)))
+                         and (not misses(e) or order[e.name] <= budget)),
+                        key=lambda e: (e.precision >= primary.precision, misses(e), order[e.name]))
     return tuple(e.name for e in [primary, *beyond, *escalation])
 
 

@@ -104,6 +104,18 @@ def test_a_named_method_restricts_the_primary_and_keeps_escalation_open():
         plan(facts, Request(), method="fastest")
 
 
+def test_escalations_go_to_the_cheapest_engine_that_meets_the_target_in_a_fixed_order():
+    """Times the primary misses go first to the cheapest engine that reaches further and is
+    expected to meet the target (krylov's 0.1 s before refined's seconds here), and the order
+    is the scene's: the same for every request, so a time's engine never depends on the other
+    times of a call."""
+    facts = SceneFacts(n=1_000, nnz=7_000, **{**RAYLEIGH, "quotes": (Quote("refined", None, 2.5, 2e-3),)})
+    plans = [plan(facts, Request(count=100, t_max=t)) for t in (1.0, 50.0, 2e4)]
+    assert plans[0].primary == "chebyshev"
+    assert plans[0].chain.index("krylov") < plans[0].chain.index("refined")
+    assert plans[0].chain == plans[1].chain == plans[2].chain[:len(plans[0].chain)]
+
+
 def test_the_modal_engine_is_expected_to_miss_while_a_light_mode_is_alive():
     """The modal engine's bound grows with t while the slowest mode is alive (its rate at
     most the poles' mean decay tr(M⁻¹C)/2n): a lightly damped non-classical network goes to
