@@ -488,6 +488,11 @@ class BlockMotion:
         return (E * (np.cosh(root * t) * g_C + (np.sinh(root * t) / root) * g_S)).real
 
     @cached_property
+    def _largest_root(self) -> float:
+        """max |√d| over the 2 x 2 blocks (a twin's is its partner's)."""
+        return max(abs(block.root) for block in self.doubles)
+
+    @cached_property
     def _growth_constants(self) -> tuple[float, float]:
         """(K, ν) with ‖e^{Bτ}‖ ≤ e^{μτ}·min(K, 1 + ντ) =: e^{μτ}q(τ), q nondecreasing.
 
@@ -544,7 +549,7 @@ class BlockMotion:
         # of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their envelopes
         # (|C| ≤ 1·, |S| ≤ t·), the libm by 4u; and the rounding δd of d: |∂C/∂d| =
         # t|S|/2 ≤ t²/2·, |∂S/∂d| ≤ t³/4·cosh(√|d|·t) (the series) with s = max |√d|
-        largest = weights.largest_root
+        largest = self._largest_root
         rounding = decay * (shift + (2 * largest * t + 4) * U)
         bounds += np.multiply.outer(weights.single_size + weights.double_C, rounding)
         bounds += np.multiply.outer(weights.double_S, rounding * t)
@@ -598,5 +603,3 @@ class _Order:
         self.d_S = sum((block.weight * block.d_error * Nc_norm * rows
                         for block, _, _, (rows, _, Nc_norm) in doubles), zero)
         self.size = self.single_size + self.double_C + self.double_S
-        #: max |√d| over the evaluated 2 x 2 blocks
-        self.largest_root = max(abs(block.root) for block, *_ in doubles)

@@ -167,7 +167,8 @@ def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str
     wanted = FAMILIES.get(method, (method,)) if method != "auto" and request.dps is None else None
     # the escalation order is the scene's, not the request's (costs for the default
     # request): a time's engine then never depends on the other times of a call
-    order = {e.name: _cost(e, facts, DEFAULT_REQUEST, built).seconds for e in serving}
+    order = {e.name: (costs[e.name] if request == DEFAULT_REQUEST
+                      else _cost(e, facts, DEFAULT_REQUEST, built)).seconds for e in serving}
     chain = _chain(serving, costs, horizons, facts, request, wanted, order)
     return Plan(request, method, chain, horizons, costs, tuple(refusals),
                 _reason(chain, costs, method, facts, request, refusals))
