@@ -184,9 +184,8 @@ def _range_refusal(data: TinyData) -> str | None:
     """Why the scene's numbers are beyond the engine's float64 closed forms, or None: every
     nonzero entry of M⁻¹K, M⁻¹C, x0 and v0 within Limits.tiny_max_magnitude^{±1}."""
     most = float(limits().tiny_max_magnitude)
-    high = fmpq(*most.as_integer_ratio())
-    low = 1 / high
-    # a float strictly inside (1/most, most) by a relative 2^-40 is inside exactly
+    # a float strictly inside (1/most, most) by a relative 2^-40 is inside exactly; the
+    # exact comparison is made only for the rare entries near the limits
     inner_low, inner_high = (1 + 2.0**-40) / most, most * (1 - 2.0**-40)
     A, B = data.normalized()
     named = [("M⁻¹K", A.values()), ("M⁻¹C", B.values()), ("x0", data.x0_exact),
@@ -194,11 +193,17 @@ def _range_refusal(data: TinyData) -> str | None:
     for name, values in named:
         for value in values:
             if not inner_low < _size(value) < inner_high and value != 0 \
-                    and not low <= abs(value) <= high:
+                    and not _within(value, most):
                 return (f"an entry of {name} is about {_magnitude(value)}, beyond "
                         f"Limits.tiny_max_magnitude = {most:g} (or its reciprocal): the "
                         "float64 closed forms would overflow")
     return None
+
+
+def _within(value: Any, most: float) -> bool:
+    """1/most ≤ |value| ≤ most, exactly."""
+    high = fmpq(*most.as_integer_ratio())
+    return bool(1 / high <= abs(value) <= high)
 
 
 def _size(value: Any) -> float:

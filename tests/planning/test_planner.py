@@ -4,6 +4,7 @@ independent references (arb matrix exponentials, analytic solutions)."""
 
 from __future__ import annotations
 
+import importlib
 import io
 import math
 import sys
@@ -297,3 +298,30 @@ def test_the_plan_is_inspectable_without_evaluating():
     assert "chebyshev" in shown and "declined" in shown and "certified_max_order" in shown
     sol = ls.solve(chain(2, c="1/10"))
     assert sol.plan([1.0]).primary == sol.method and math.isfinite(sol.plan().seconds)
+
+
+def test_the_tiny_scenes_facts_from_the_exact_reading_are_the_general_ones():
+    facts = importlib.import_module("laplace_springs.planning.facts")
+    taken = [
+        ls.Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[1], v0=[0]),
+        ls.Scene.from_matrices(M=[[2]], K=[[8]], x0=[0], v0=["1/3"]),
+        ls.load_scene("vertical-pair-damped"),
+        ls.Scene.from_matrices(M=[[2, 1], [1, 3]], C=[[1, 0], [0, 0]], K=[[2, -1], [-1, 2]],
+                               x0=[1, 0], v0=[0, 0]),
+        ls.Scene.from_matrices(M=[[1, 0, 0], [0, 2, 0], [0, 0, 3]], K=[[2, -1, 0], [-1, 2, -1],
+                               [0, -1, 1]], x0=[1, 0, 0], v0=[0, 0, "0.5"]),
+    ]
+    for scene in taken:
+        quick = facts._tiny_facts(scene)
+        assert quick is not None and quick == facts._general_facts(scene)
+    eye = [[int(i == j) for j in range(5)] for i in range(5)]
+    refused = [
+        ls.Scene.from_matrices(M=eye, K=eye, x0=[1, 0, 0, 0, 0], v0=[0] * 5),
+        ls.Scene.from_matrices(M=[[1]], K=[["k"]], x0=[1], v0=[0], parameters=["k"]),
+        ls.Scene.from_matrices(M=[[1]], K=[[4]], x0=[1], v0=[0], forcing=["cos(t)"]),
+        ls.Scene.from_matrices(M=[[1, 0], [0, 0]], C=[[0, 0], [0, 1]], K=[[2, -1], [-1, 1]],
+                               x0=[0, 0], v0=[0, 0]),
+        ls.Scene.from_matrices(M=[[1]], K=[["1e300"]], x0=[1], v0=[0]),
+    ]
+    for scene in refused:
+        assert facts._tiny_facts(scene) is None
