@@ -48,9 +48,25 @@ class Times:
     hi: np.ndarray
     lo: np.ndarray
     given: tuple = field(repr=False)
+    #: (min, max) of ``hi`` where the maker knows it (read by :attr:`span`)
+    known_span: tuple[float, float] | None = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return int(self.hi.size)
+
+    @property
+    def span(self) -> tuple[float, float]:
+        """(first, last) of the float times ``hi`` ((0, 0) for no times), found once.
+
+        >>> as_times([2.0, 0.0, 1.5]).span
+        (0.0, 2.0)
+        """
+        if self.known_span is None:
+            hi = self.hi
+            object.__setattr__(self, "known_span", (float(hi.min()), float(hi.max()))
+                               if hi.size else (0.0, 0.0))
+        span: tuple[float, float] = self.known_span  # type: ignore[assignment]
+        return span
 
     def exact(self, index: int) -> Fraction:
         """Time ``index`` as an exact rational."""
@@ -177,9 +193,10 @@ def _float_times(times: np.ndarray) -> Times | None:
     if times.size > limits().max_times:
         return None
     hi = times.astype(float, copy=True).ravel()
-    if not (hi.min() >= 0 and hi.max() < math.inf):
+    first, last = float(hi.min()), float(hi.max())
+    if not (first >= 0 and last < math.inf):
         return None
-    return Times(hi, np.zeros(hi.size), ())
+    return Times(hi, np.zeros(hi.size), (), (first, last))
 
 
 def _check_count(times: object) -> None:

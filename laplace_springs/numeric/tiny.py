@@ -355,7 +355,7 @@ class TinyMotion:
             values, bounds = self.form.evaluate(t, lo, order)
             if not math.isfinite(float(values.sum()) + float(bounds.sum())):
                 bounds = np.where(np.isfinite(values) & np.isfinite(bounds), bounds, np.inf)
-        if not t.all():  # x^(order)(0) is the initial data: exactly, rounded once
+        if times.span[0] == 0:  # x^(order)(0) is the initial data: exactly, rounded once
             start = t == 0
             initial = self.data.initial(order)[:, None]
             values[:, start] = initial

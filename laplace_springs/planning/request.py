@@ -56,7 +56,6 @@ def request_for(times: Times, *, target: float | None = None, dps: int | None = 
     >>> request_for(as_times([0, 1e6]), order=1)
     Request(count=2, t_max=1000000.0, target=1e-13, dps=None, order=1, formula=False)
     """
-    t_max = float(times.hi.max()) if times.hi.size else 0.0
-    return Request(count=len(times), t_max=t_max,
+    return Request(count=len(times), t_max=times.span[1],
                    target=limits().target if target is None else float(target), dps=dps,
                    order=order)
