@@ -120,3 +120,16 @@ def test_chebyshev_interval_holds_the_spectrum_with_unequal_masses():
         slack = 1e-12 * spectrum[-1]
         assert lo <= spectrum[0] + slack and spectrum[-1] - slack <= hi, \
             (masses, K.tolist(), lo, hi, spectrum)
+
+
+#: One mass: the interval is 1e-12·k wide around k, and its nodes came from the float64
+#: mid − rad (off by u·k, 1e-4 of the width) while the recurrence's B was centred on mid:
+#: x'' + 0.00681x' + 487x = 0, x(0) = 1/10 at t = 100 off by 3.6e-15 with a bound of 1.2e-15.
+@pytest.mark.parametrize("k", ["487", "3", "1e4", "12345678"])
+def test_chebyshev_on_one_mass_keeps_its_bound(k):
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["681/100000"]], K=[[k]], x0=["1/10"], v0=[0])
+    sol = ls.solve(scene, method="chebyshev")
+    times = [0.37, 50.0, 100.0, 200.0, 1000.0]
+    for order in (0, 1, 2):
+        values, bounds = sol.evaluate(times, return_error=True, derivative=order)
+        assert_bounded(values, bounds, motion(scene, times, order))

@@ -737,12 +737,17 @@ class ChebyshevMotion:
         return (16 * np.ceil(np.maximum(need, 1) / 16)).astype(np.int64)
 
     def _nodes(self, N: int) -> tuple[np.ndarray, np.ndarray]:
-        """The Chebyshev points λ_j = lo + 2 rad cos²(jπ/2N) in the working precision and
-        bounds on their errors (the argument within 3 roundings of π/2, cos within one)."""
+        """The Chebyshev points λ_j = lo + 2 rad cos²(jπ/2N), lo = mid − rad, in the working
+        precision and bounds on their errors (the argument within 3 roundings of π/2, cos
+        within one, lo within one)."""
         op = self._operator
         pi = 4 * np.arctan(_WORK(1))
         cos = np.cos(np.arange(N + 1).astype(_WORK) * (pi / _WORK(2 * N)))
-        lam = _WORK(op["lo"]) + _WORK(2 * op["rad"]) * (cos * cos)
+        # lo from the operator's own centre in the working precision: the float64 mid − rad
+        # is off by up to u·|lo|, which on a narrow interval (one mass: rad = 1e-12·|mid|)
+        # moves every node by 1e-4 of rad against the B = (M⁻¹K − mid)/rad of the recurrence
+        lo = _WORK(op["mid"]) - _WORK(op["rad"])
+        lam = lo + _WORK(2 * op["rad"]) * (cos * cos)
         c = np.abs(cos).astype(float)
         error = 1.01 * _UW * (2 * op["rad"] * (10 * c + 5 * c * c)
                               + 2 * (np.abs(lam).astype(float) + abs(op["lo"])))
