@@ -213,7 +213,7 @@ def _equations_scene(args: argparse.Namespace, values: dict[str, str]) -> Scene:
         raise UsageError(f"solve: give a SCENE or --equations, not both (got {args.scene!r} and "
                          f"--equations {args.equations!r})")
     path = Path(args.equations)
-    text = read_text_file(path, "equations file", "max_file_bytes")
+    text = read_text_file(path, "equations file", "max_file_bytes", "utf-8-sig")
     try:
         return Scene.from_equations(text, parameters=list(values), title=path.stem)
     except SceneError as exc:
@@ -280,11 +280,30 @@ def parse_times(text: str) -> list[float]:
     return [_parse_time(item.strip()) for item in text.split(",")]
 
 
+#: A plain number on the command line: ASCII digits, an optional point and exponent.
+#: Python's float() takes more (``1_0``, Arabic-Indic ``٣``), which the entries of a scene
+#: refuse: the command line reads numbers as they do.
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def _plain_number(item: str, what: str, convert, example: str) -> float:
+    """An ``--at`` item as a float: a plain number, NaN or an infinity (refused by the
+    caller), or a number with a unit (``convert`` takes it to SI); else a UsageError."""
+    if _NOT_FINITE.fullmatch(item):
+        return float(item)
+    if not _PLAIN_NUMBER.fullmatch(item):
+        return _with_unit(item, convert, example)
+    value = float(item)
+    mantissa = item.lower().partition("e")[0]
+    if value == 0 and mantissa.strip("+-.0"):
+        raise UsageError(f"--at: {what} {item!r} is below the float64 range (about 5e-324) and "
+                         f"would be read as 0")
+    return value + 0.0  # -0 is 0
+
+
 def _parse_time(item: str) -> float:
-    try:
-        value = float(item)
-    except ValueError:
-        value = _with_unit(item, times_to_seconds, "give times like 0,0.5,1")
+    value = _plain_number(item, "time", times_to_seconds, "give times like 0,0.5,1")
     if not math.isfinite(value):
         raise UsageError(f"--at: time must be finite, got {item!r}")
     if value < 0:
@@ -304,6 +323,8 @@ def _with_unit(item: str, convert, example: str) -> float:
         return float(convert(item))
     except SceneError as exc:
         raise UsageError(f"--at: {exc}") from None
+    except (ValueError, TypeError):  # "1 2": digits and a space, no unit to convert
+        raise UsageError(f"--at: {item!r} is not a number ({example})") from None
 
 
 def parse_frequencies(text: str) -> list[float]:
@@ -338,10 +359,8 @@ def parse_frequencies(text: str) -> list[float]:
 
 
 def _parse_frequency(item: str) -> float:
-    try:
-        value = float(item)
-    except ValueError:
-        value = _with_unit(item, frequencies_to_rad_per_second, "give frequencies like 1,2.5 or 1Hz,2Hz")
+    value = _plain_number(item, "frequency", frequencies_to_rad_per_second,
+                          "give frequencies like 1,2.5 or 1Hz,2Hz")
     if not math.isfinite(value):
         raise UsageError(f"--at: frequency must be finite, got {item!r}")
     return value

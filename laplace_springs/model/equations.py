@@ -599,8 +599,27 @@ def _statements(equations: Any, unknowns: _Unknowns, declared: dict[str, sp.Symb
     return out
 
 
+def _coordinate_names(coordinates: object) -> list[str] | None:
+    """``coordinates`` as a list of names, or a SceneError (LimitError for too many) saying why."""
+    if coordinates is None:
+        return None
+    if isinstance(coordinates, (str, bytes, Mapping)) or not isinstance(coordinates, Iterable):
+        raise SceneError(f"coordinates: expected a list of names such as ['x1', 'x2'], got "
+                         f"{shown(coordinates)}")
+    names: list[str] = []
+    for item in coordinates:
+        if len(names) >= limits().max_matrix_input_size:
+            raise LimitError(f"coordinates: more than Limits.max_matrix_input_size = "
+                             f"{limits().max_matrix_input_size} names (dense input)")
+        if not isinstance(item, str) or re.fullmatch(_NAME, item) is None:
+            raise SceneError(f"coordinates: a name is a letter, then letters, digits or '_', got "
+                             f"{shown(item)}")
+        names.append(item)
+    return names
+
+
 def _items(equations: Any) -> Iterable[Any]:
-    if not isinstance(equations, Iterable):
+    if isinstance(equations, (bytes, bytearray, Mapping)) or not isinstance(equations, Iterable):
         raise SceneError(f"equations: expected text, an Eq or a list of them, got {shown(equations)}")
     for item in equations:
         if not isinstance(item, (str, sp.Basic)):
@@ -672,9 +691,10 @@ def read_equations(equations: Any, *, parameters: object = None,
     laplace_springs.model.errors.SceneError: equation "x1'' + x1**2 = 0": the term x1**2 is not linear in the unknowns (only constant multiples of x, x' and x'' are allowed: a linear system M x'' + C x' + K x = f(t))
     """
     declared = declare_parameters(parameters)
+    coordinates = _coordinate_names(coordinates)
     unknowns = _Unknowns()
     for name in coordinates or ():
-        unknowns.add(str(name))
+        unknowns.add(name)
     statements = _statements(equations, unknowns, declared)
     for statement in statements:
         if unknowns.has_initial(statement.expr) and unknowns.has_motion(statement.expr):

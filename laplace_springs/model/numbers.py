@@ -41,6 +41,7 @@ from .symbols import TIME, reserved_name_message
 
 __all__ = [
     "ALLOWED_FUNCTIONS",
+    "ARITY",
     "CONSTANTS",
     "NOT_FINITE_REAL",
     "ASSUMPTIONS",
@@ -73,6 +74,15 @@ ALLOWED_FUNCTIONS: Mapping[str, Callable[..., sympy.Expr]] = MappingProxyType(
 #: Named constants.
 CONSTANTS: Mapping[str, sympy.Expr] = MappingProxyType({"pi": sympy.pi, "E": sympy.E})
 
+#: Arguments each allowed function takes in text, (fewest, most). SymPy's optional extra
+#: arguments are not text: ``sqrt(4, 0)`` would pass 0 as SymPy's ``evaluate`` flag and
+#: ``Heaviside(t - 1, 5)`` would make 5 the step's value at its jump.
+#: ``DiracDelta(t, k)``, the k-th derivative of an impulse, is read and refused later
+#: with its reason.
+ARITY: Mapping[str, tuple[int, int]] = MappingProxyType({
+    "sqrt": (1, 1), "exp": (1, 1), "sin": (1, 1), "cos": (1, 1), "sinh": (1, 1), "cosh": (1, 1),
+    "Heaviside": (1, 1), "DiracDelta": (1, 2), "Abs": (1, 1)})
+
 #: Names refused in text (any case): they would read as a number that is not finite and
 #: real (SymPy's nan, oo, zoo, the imaginary unit I), never as a parameter.
 NOT_FINITE_REAL = frozenset({"nan", "inf", "infinity", "oo", "zoo", "i", "j"})
@@ -92,6 +102,15 @@ ASSUMPTIONS: Mapping[str, Mapping[str, bool]] = MappingProxyType({
     "real": MappingProxyType({"real": True}),
     "negative": MappingProxyType({"negative": True}),
 })
+
+#: SymPy's other assumption words: refused as a declaration, never read as a description
+#: (which would declare the parameter positive: ``"complex"`` or ``"integer"`` silently so).
+UNSUPPORTED_ASSUMPTIONS = frozenset({
+    "algebraic", "antihermitian", "commutative", "complex", "composite", "even", "extended_negative",
+    "extended_nonnegative", "extended_nonpositive", "extended_nonzero", "extended_positive",
+    "extended_real", "finite", "hermitian", "imaginary", "infinite", "integer", "irrational",
+    "noninteger", "nonpositive", "nonzero", "odd", "polar", "prime", "rational", "transcendental",
+    "zero"})
 
 #: Largest |argument| of exp, sinh and cosh, and of sin and cos, in text (checked at a
 #: generic value of the parameters): ``exp(exp(exp(10)))`` is refused as it is read.
@@ -217,6 +236,15 @@ def _checked_power(base: sympy.Expr, exponent: sympy.Expr, column: int) -> sympy
             raise _ParseError(f"power {base}**{exponent} would have more than {limits().max_digits} digits "
                               f"(the limit Limits.max_digits)", column)
     return sympy.Pow(base, exponent)
+
+
+def _check_arity(name: str, count: int, column: int) -> None:
+    """Refuse a call of an allowed function with a number of arguments outside :data:`ARITY`."""
+    fewest, most = ARITY.get(name, (0, count))
+    if not fewest <= count <= most:
+        wanted = str(fewest) if fewest == most else f"{fewest} or {most}"
+        raise _ParseError(f"cannot call {name} with {count} argument(s): {name} takes {wanted} "
+                          f"argument{'s' if most > 1 else ''} in text", column)
 
 
 class _Parser:
@@ -355,6 +383,7 @@ class _Parser:
             while self._accept(",") is not None:
                 arguments.append(self.expression())
             self._expect(")")
+        _check_arity(token.text, len(arguments), token.column)
         limit = MAX_ARGUMENT.get(token.text)
         if limit is not None and len(arguments) == 1:
             size = _magnitude(arguments[0])
@@ -401,6 +430,7 @@ class _Parser:
                 while self._accept(",") is not None:
                     arguments.append(self.expression())
                 self._expect(")")
+            _check_arity(method.text, len(arguments), method.column)
             try:
                 value = self.functions[method.text](*arguments)
             except (TypeError, ValueError) as exc:
@@ -614,7 +644,13 @@ def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.E
                              f"(the limit Limits.max_digits)")
     if value.is_Rational and value != 0 and 1 / MAX_MAGNITUDE <= abs(value) <= MAX_MAGNITUDE:
         return value
-    magnitude = _magnitude(value)
+    try:
+        magnitude = _magnitude(value)
+    except (ValueError, TypeError, IndexError, AttributeError, ArithmeticError) as exc:
+        # SymPy objects that are not numbers in a parameter, say Derivative(k**2, k),
+        # Lambda(k, k), O(k): SymPy's own error on substituting a value
+        raise SceneError(f"{entry}: {shown_value} is not a number or an expression in the parameters "
+                         f"(SymPy cannot evaluate it: {type(exc).__name__}: {exc})") from None
     if magnitude is None or magnitude.is_zero:
         return value
     if not 1 / MAX_MAGNITUDE <= magnitude <= MAX_MAGNITUDE:
@@ -626,12 +662,43 @@ def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.E
 
 
 def _require_finite(value: sympy.Expr, entry: str, shown: object) -> sympy.Expr:
-    """``value`` unless it is or contains NaN, an infinity or the imaginary unit."""
+    """``value`` unless it is or contains NaN, an infinity, the imaginary unit, a number
+    that is not real (``(-8)**(1/3)`` is ``1 + i√3``) or an impulse at a fixed instant
+    (``DiracDelta(0)``: not a finite number)."""
     if value.has(*_NON_FINITE):
         raise SceneError(f"{entry}: expected a finite number, got {shown!r}")
     if value.has(sympy.I):
         raise SceneError(f"{entry}: expected a real number, got {shown!r}")
+    complex_part = _complex_part(value)
+    if complex_part is not None:
+        raise SceneError(f"{entry}: expected a real number, got {shown!r} ({complex_part} is not real; "
+                         f"a root of a negative number is complex in SymPy, as in Python)")
+    for impulse in value.atoms(sympy.DiracDelta):
+        if not any(getattr(symbol, "name", None) == TIME.name for symbol in impulse.args[0].free_symbols):
+            raise SceneError(f"{entry}: {impulse} in {shown!r} is not a finite number (an impulse "
+                             f"is DiracDelta(t - tau), a function of the time t)")
     return value
+
+
+def _complex_part(value: sympy.Expr) -> sympy.Expr | None:
+    """A constant part of ``value`` (the whole, or a power in it) that is not real, or None.
+
+    SymPy says so for ``(-1)**(1/3)``; where it cannot tell (``(-1)**pi``) the part is
+    evaluated to 30 digits and its imaginary part compared with its size.
+    """
+    parts = [value] if value.is_number else [power for power in value.atoms(sympy.Pow) if power.is_number]
+    for part in parts:
+        try:
+            real = part.is_extended_real
+            if real is None:
+                number = sympy.N(part, 30, maxn=400)
+                imaginary = abs(sympy.im(number))
+                real = not (imaginary.is_Number and imaginary > abs(number) * sympy.Float("1e-25"))
+        except (ValueError, TypeError, IndexError, AttributeError, ArithmeticError, RecursionError):
+            real = True  # not a number SymPy can evaluate: the magnitude check says so
+        if real is False:
+            return part
+    return None
 
 
 def _fraction_to_rational(value: fractions.Fraction) -> sympy.Rational:
@@ -814,6 +881,9 @@ def _parameter_symbol(name: str, declaration: object) -> sympy.Symbol:
         raise SceneError(f"parameter {name!r}: expected an assumption ({', '.join(ASSUMPTIONS)}) or "
                          f"a description, got {shown(declaration)}")
     word = declaration.strip().lower()
+    if word in UNSUPPORTED_ASSUMPTIONS:
+        raise SceneError(f"parameter {name!r}: the assumption {word!r} is not supported; declare one of "
+                         f"{', '.join(ASSUMPTIONS)} (or give a description: then it is positive)")
     return sympy.Symbol(name, **ASSUMPTIONS.get(word, ASSUMPTIONS["positive"]))
 
 

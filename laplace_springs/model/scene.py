@@ -952,6 +952,8 @@ class Scene:
         _check_names(self.names, n)
         if self.layout not in LAYOUTS:
             raise SceneError(f"layout must be one of {', '.join(LAYOUTS)}, got {shown(self.layout)}")
+        if not isinstance(self.title, str):
+            raise SceneError(f"title must be a string, got {shown(self.title)}")
         if self.mass_names and len(self.mass_names) != n:
             raise SceneError(f"mass_names has {len(self.mass_names)} entries, expected {n}")
         if self.forcing is not None:

@@ -353,7 +353,7 @@ def _looks_like_path(name_or_path: str | os.PathLike[str]) -> bool:
 
 def _read_path(path: Path) -> str:
     """The text of a scene file: at most Limits.max_file_bytes are read, whatever the file is."""
-    return read_text_file(path, "scene file", "max_file_bytes")
+    return read_text_file(path, "scene file", "max_file_bytes", "utf-8-sig")
 
 
 def _check_text_size(text: str) -> None:

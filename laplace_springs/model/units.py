@@ -267,7 +267,7 @@ def _root_factor(reg: Any, name: str, depth: int = 0) -> sympy.Expr:
 
 def _integer_exponent(name: str, exponent: object) -> int:
     if not float(exponent).is_integer() or abs(float(exponent)) > MAX_UNIT_EXPONENT:  # type: ignore[arg-type]
-        raise _UnitProblem(f"{name!r} has the exponent {exponent}; exponents must be whole "
+        raise _UnitProblem(f"{shown(name)} has the exponent {shown(exponent)}; exponents must be whole "
                            f"numbers up to {MAX_UNIT_EXPONENT}")
     return int(float(exponent))  # type: ignore[arg-type]
 
@@ -325,7 +325,7 @@ def parse_unit(text: str) -> Unit:
         try:
             _UNITS[key] = _resolve(reg, text)
         except _UnitProblem as exc:
-            raise SceneError(f"unit {text!r}: {exc}") from None
+            raise SceneError(f"unit {shown(text)}: {exc}") from None
     return _UNITS[key]
 
 
@@ -339,7 +339,9 @@ def _resolve(reg: Any, text: str) -> Unit:
         units = reg.parse_units(normalised)
         root_float, _ = reg.get_root_units(units)
     except (pint.PintError, ValueError, TypeError, SyntaxError, AttributeError, KeyError,
-            AssertionError) as exc:  # pint's expression builder asserts on some malformed text
+            AssertionError, ArithmeticError, RecursionError) as exc:
+        # pint's expression builder asserts on some malformed text; its float factors
+        # overflow (kg^10000, kg^(10**400)) or divide by zero (kg/0)
         raise _UnitProblem(f"not a unit pint knows ({exc})" if str(exc) else "not a unit pint knows") from None
     except Exception as exc:  # the tokenizer's TokenError for unbalanced brackets
         if type(exc).__name__ != "TokenError":
