@@ -140,17 +140,21 @@ def _probe(solution: Solution, target: float) -> float:
     """The engine's own largest bound at Limits.probe_times, relative to the scale (a scene
     whose scales float64 cannot separate: the next engine of the plan may do better).
 
-    An engine whose motion gives its bounds alone (``largest_bound``, the tiny engine) is
-    first judged against the floor S₀ of the scale, which is at most max(‖x(t)‖∞, S₀): a
-    bound that meets the target there meets it at the probe, and no value is formed."""
+    An engine whose motion gives its bounds alone (the tiny engine) is first judged against
+    the floor S₀ of the scale, which is at most max(‖x(t)‖∞, S₀): a bound that meets the
+    target there meets it at the probe, and no value is formed. Its ``bound_until`` (an
+    upper bound of every bound up to the last probe time, from the decomposition's
+    constants alone) is asked first, then ``largest_bound`` at the probe times."""
     given = limits().probe_times
     times = _PROBES.get(given)
     if times is None:
         times = _PROBES[given] = as_times(np.array(given))
-    largest = getattr(getattr(solution, "motion", None), "largest_bound", None)
-    if largest is not None:
+    motion = getattr(solution, "motion", None)
+    if hasattr(motion, "largest_bound"):
         floor = solution._floor(0)
-        quick = largest(times.hi) / floor if floor > 0 else math.inf
+        quick = motion.bound_until(max(given, default=0.0)) / floor if floor > 0 else math.inf
+        if quick > target and floor > 0:
+            quick = motion.largest_bound(times.hi) / floor
         if quick <= target:
             return quick
     values, bounds = solution._float(times, 0)

@@ -382,6 +382,21 @@ class TinyMotion:
         largest = float(bounds.max(initial=0.0))
         return math.inf if math.isnan(largest) else largest
 
+    def bound_until(self, t_max: float) -> float:
+        """An upper bound of :meth:`largest_bound` over the times [0, t_max], from the
+        decomposition's constants alone where it has no 2 x 2 blocks (else inf: ask
+        :meth:`largest_bound`). Decomposes on first use.
+
+        >>> scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, 0], [0, 0]],
+        ...                             K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, 0])
+        >>> motion = tiny_motion(scene)
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> bool(motion.largest_bound(t) <= motion.bound_until(1.0) < 1e-13)
+        True
+        """
+        form = self.form
+        return math.inf if isinstance(form, _Scalar) else form.bound_until(t_max)
+
     @property
     def spectral_radius(self) -> float:
         """max |λ| over the poles (decomposes on first use)."""

@@ -424,6 +424,7 @@ class BlockMotion:
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
         self.c_norm = c_norm
+        self.X_norm = X_norm
         rates = self.rates.tolist()
         self.growth = max([block.growth for block in self.doubles] + [r.real for r in rates])
         self.speed = max([abs(block.mu) + block.nu for block in self.doubles]
@@ -460,6 +461,29 @@ class BlockMotion:
         for block, g_C, g_S, _ in weights.doubles:
             values += self._double(block, g_C, g_S, t)
         return values, self._bounds(weights, t)
+
+    def bound_until(self, t_max: float) -> float:
+        """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
+        [0, t_max], from the decomposition's constants alone (no per-time work: a few
+        float operations where :meth:`bounds` makes a dozen NumPy calls).
+
+        Each per-time factor of :meth:`_bounds` is nondecreasing or bounded by its value at
+        0 or t_max (e^{gt} ≤ max(1, e^{g·t_max})), and each row's weights are bounded by
+        norms: ‖L_i‖ ≤ ‖X‖_F and Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖. With 2 x 2 blocks (their
+        factors are bounded per time only) or a failed decomposition it is inf.
+        """
+        if self.failure is not None or self.doubles:
+            return math.inf
+        exponent = max(self.growth + self.phi, 0.0) * t_max
+        if exponent > 700:
+            return math.inf
+        G = math.exp(exponent) * _SAFETY
+        decay = math.exp(max(self.growth, 0.0) * t_max)
+        shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t_max
+        rows, size = self.X_norm, 2 * self.X_norm * self.c_norm
+        found = rows * G * (self.phi * self.c_norm * t_max + self.rho0) \
+            + size * (decay * shift * _SAFETY + 1e-300 * (1 + t_max))
+        return found * (1 + 1e-12)  # this sum's own rounding
 
     def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
         """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""

@@ -237,6 +237,33 @@ def test_random_scenes_bound_is_never_below_the_error(seed: int) -> None:
     _check(scene, times, served=False)
 
 
+@pytest.mark.parametrize("seed", range(12))
+def test_the_bound_until_a_time_covers_every_bound_and_error_before_it(seed: int) -> None:
+    """``bound_until`` (the probe's first, per-time-free judge) is at least every bound the
+    engine gives on [0, t_max] (a dense grid) and the true error there (arb)."""
+    scene = _random_scene(random.Random(seed))
+    motion = tiny_motion(scene)
+    for t_max in (1.0, 10.0, 50.0):
+        envelope = motion.bound_until(t_max)
+        if envelope == np.inf:
+            assert motion.form.doubles or motion.refusal() is not None
+            continue
+        grid = np.linspace(0.0, t_max, 1001)
+        assert motion.largest_bound(grid) <= envelope
+    times = [0.0, 0.125, 0.5, 1.0]
+    values, _ = motion.evaluate(as_times(times), 0)
+    errors = _errors(values, reference_motion_arb(scene, times, digits=30))
+    assert errors.max() <= motion.bound_until(1.0)
+
+
+def test_the_bound_until_a_time_leaves_2x2_blocks_to_the_times() -> None:
+    for name in ("exceptional point", "critical pair"):
+        motion = tiny_motion(SEVERAL[name][0])
+        assert motion.form.doubles and motion.bound_until(1.0) == np.inf
+    one_mass = tiny_motion(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))
+    assert one_mass.bound_until(1.0) == np.inf
+
+
 # ----------------------------------------------------------------------------- contract details
 
 
