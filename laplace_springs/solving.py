@@ -149,7 +149,7 @@ def _probe(solution: Solution, target: float) -> float:
     times = _PROBES.get(given)
     if times is None:
         times = _PROBES[given] = as_times(np.array(given))
-    motion = getattr(solution, "motion", None)
+    motion: Any = getattr(solution, "motion", None)
     if hasattr(motion, "largest_bound"):
         floor = solution._floor(0)
         quick = motion.bound_until(max(given, default=0.0)) / floor if floor > 0 else math.inf
