@@ -108,14 +108,16 @@ def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return w, V
 
 
-def _inv(X: np.ndarray) -> np.ndarray | None:
-    """X⁻¹ (complex), or None when X is singular or the inverse is not finite."""
+def _inv(X: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """X⁻¹ (complex) and its largest |entry|, or None when X is singular or the inverse is
+    not finite."""
     gufunc = getattr(_LINALG, "inv", None)
     try:
         Y = np.linalg.inv(X) if gufunc is None else gufunc(X, signature="D->D")
     except np.linalg.LinAlgError:
         return None
-    return Y if math.isfinite(float(np.abs(Y).sum())) else None
+    largest = float(np.abs(Y).max())  # NaN propagates
+    return (Y, largest) if math.isfinite(largest) else None
 
 
 def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -127,6 +129,15 @@ def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     signature = "d->ddd" if P.dtype.kind == "f" else "D->DdD"
     u, s, vh = gufunc(P, signature=signature)
     return u, s, vh
+
+
+def _as_slice(columns: list[int], size: int) -> slice | np.ndarray:
+    """``columns`` as a slice when they are range(size) or range(0, size, 2), else an index
+    array (either selects the same columns)."""
+    for step in (1, 2):
+        if columns == list(range(0, size, step)):
+            return slice(0, size, step)
+    return np.array(columns, dtype=np.intp)
 
 
 _EYES: dict[int, np.ndarray] = {}
@@ -225,14 +236,17 @@ class BlockMotion:
         if not math.isfinite(self.radius):
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
-        Y = _inv(V)
-        X = self._layout(w, V, Y)
+        inverse = _inv(V)
+        Y, largest = inverse if inverse is not None else (None, math.inf)
+        X = self._layout(w, V, Y, largest)
         self._finish(w, sizes, X, Y if X is V else None)
 
     # -- the decomposition -------------------------------------------------------------
-    def _layout(self, w: np.ndarray, V: np.ndarray, Y: np.ndarray | None) -> np.ndarray:
+    def _layout(self, w: np.ndarray, V: np.ndarray, Y: np.ndarray | None,
+                largest: float) -> np.ndarray:
         """1 x 1 blocks for well-conditioned eigenvalues, 2 x 2 blocks for defective pairs;
-        the basis X (V itself when there are no 2 x 2 blocks).
+        the basis X (V itself when there are no 2 x 2 blocks). ``largest`` is max |Y_ij|
+        (Y = V⁻¹, None when V is singular).
 
         Sets ``columns`` (the evaluated 1 x 1 blocks: a real eigenvalue, the upper member
         of a conjugate pair, or a complex term outside LAPACK's layout), their ``weights``
@@ -243,7 +257,7 @@ class BlockMotion:
         size = w.size
         pairs: dict[int, tuple[int, int]] = {}
         # ‖row of Y‖₂ ≤ √size·max|Y_ij|: rows need measuring only beyond that
-        if Y is None or math.sqrt(size) * float(np.abs(Y).max()) > _CLUSTER_CONDITION:
+        if Y is None or math.sqrt(size) * largest > _CLUSTER_CONDITION:
             with np.errstate(over="ignore"):  # an infinite condition number is one
                 condition = (np.full(size, np.inf) if Y is None
                              else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
@@ -275,7 +289,9 @@ class BlockMotion:
                 done.add(j + 1)
             else:  # not LAPACK's layout of a conjugate pair: evaluated as a complex term
                 weights.append(1.0)
-        self.columns = np.array(columns, dtype=np.intp)
+        # a slice where the columns are every eigenvalue or every other one (a real scene's
+        # conjugate pairs in LAPACK's layout): a view, where an index array copies
+        self.columns = _as_slice(columns, size)
         self.weights = np.array(weights)
         self.rates = w[self.columns]
         return X
@@ -387,10 +403,11 @@ class BlockMotion:
         B_norm = math.sqrt(float(sizes @ sizes)) if self.B is None else _norm(self.B)
         self.B_rounding = U * B_norm
         if Y is None:
-            Y = _inv(X)
-            if Y is None:
+            inverse = _inv(X)
+            if inverse is None:
                 self.failure = "the eigenvector basis is singular"
                 return
+            Y = inverse[0]
         # R = Z X − X B in extended precision (Z exact to 2⁻⁶⁴), then one product with Y
         # gives the coefficients Y y₀, Y X (for θ) and Y R (for φ)
         X_long = X.astype(np.clongdouble)
