@@ -255,8 +255,11 @@ class Solution(ABC):
         else:
             values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order, goal,
                                              self._floor(order), progress=progress)
-            _check_float_result(values, bounds, T, report, goal)
-            bounds = np.maximum(bounds, limits().min_relative_bound * np.abs(values)) + _TINY
+            sizes = np.abs(values)
+            _check_float_result(values, sizes, T, report, goal)
+            # the executor's own arrays: floored in place
+            bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
+            bounds += _TINY
         if units:  # Quantities in the scene's units or the unit asked for
             values, bounds = (attach_units(a, self.scene, order, units) for a in (values, bounds))
         out = (values, bounds) if return_error else (values,)
@@ -561,16 +564,16 @@ def _check_size(count: int, n: int) -> None:
 _HUGE = float(np.finfo(float).max) / 4
 
 
-def _check_float_result(values: np.ndarray, bounds: np.ndarray, times: Times,
+def _check_float_result(values: np.ndarray, sizes: np.ndarray, times: Times,
                         report: EvaluationReport, target: float) -> None:
-    """Raise rather than return a value beyond float64, or one no engine could bound within
-    max(target, Limits.refusal_bound) of the scale."""
+    """Raise rather than return a value beyond float64 (``sizes`` = |values|), or one no
+    engine could bound within max(target, Limits.refusal_bound) of the scale."""
     worst = report.relative_bounds
     refusal = max(target, limits().refusal_bound)
-    if values.size and float(np.abs(values).max()) <= _HUGE and float(worst.max()) <= refusal:
+    if values.size and float(sizes.max()) <= _HUGE and float(worst.max()) <= refusal:
         return  # every value within range, every bound within the refusal bound
     with np.errstate(invalid="ignore"):
-        huge = np.isfinite(values) & (np.abs(values) > _HUGE)
+        huge = np.isfinite(values) & (sizes > _HUGE)
     if huge.any():
         column = int(np.flatnonzero(huge.any(axis=0))[0])
         raise OverflowError(f"x(t) at t = {float(times.hi[column])!r} is beyond the float64 range; "
