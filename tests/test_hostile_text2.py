@@ -223,3 +223,22 @@ def test_descriptions_and_the_four_assumptions_still_declare():
     assert stiffness("k", parameters={"k": "complex stiffness"}).K[0, 0].is_positive   # a description
     for word, fact in (("real", "is_real"), ("nonnegative", "is_nonnegative"), ("negative", "is_negative")):
         assert getattr(stiffness("k", parameters={"k": word}).K[0, 0], fact)
+
+
+@pytest.mark.parametrize(("assumptions", "reason"), [({"imaginary": True}, "declared not real"),
+                                                     ({"real": False}, "declared not real"),
+                                                     ({"infinite": True}, "declared infinite"),
+                                                     ({"commutative": False}, "noncommutative")])
+def test_sympy_symbols_that_cannot_be_real_numbers_are_refused(assumptions, reason):
+    symbol = sp.Symbol("m", **assumptions)
+    with pytest.raises(SceneError, match=reason):
+        stiffness(symbol)
+    with pytest.raises(SceneError, match=reason):
+        ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[symbol], v0=[0])
+    with pytest.raises(SceneError, match=reason):
+        stiffness("m", parameters=[symbol])
+
+
+def test_sympy_symbols_of_unknown_sign_stay_parameters():
+    for assumptions in ({}, {"real": True}, {"negative": True}, {"integer": True}):
+        assert stiffness(sp.Symbol("m", **assumptions)).K[0, 0].is_Symbol

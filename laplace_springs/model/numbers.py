@@ -757,6 +757,10 @@ def _sympy_to_exact(value: sympy.Basic, entry: str) -> sympy.Expr:
         raise SceneError(f"{entry}: expected a number, got {value!r}")
     check_depth(value, entry)
     _require_finite(value, entry, value)
+    for symbol in value.free_symbols:
+        unfit = _unfit_symbol(symbol)
+        if unfit is not None:
+            raise SceneError(f"{entry}: {shown(value)}: {unfit}")
     floats = value.atoms(sympy.Float)
     if floats:
         value = value.xreplace({f: _decimal_text_to_rational(str(f), entry, f) for f in floats})
@@ -962,10 +966,25 @@ def _declarations(parameters: object) -> Iterator[sympy.Symbol]:
             yield _parameter_symbol(_parameter_name(item), None)
 
 
+def _unfit_symbol(symbol: sympy.Basic) -> str | None:
+    """Why a SymPy Symbol cannot stand for a real parameter (declared imaginary, not real,
+    infinite or noncommutative), or None."""
+    if symbol.is_commutative is False:
+        return f"the Symbol {symbol} is noncommutative; a parameter is a real number"
+    if symbol.is_finite is False:
+        return f"the Symbol {symbol} is declared infinite; a parameter is a finite number"
+    if symbol.is_real is False:
+        return f"the Symbol {symbol} is declared not real; a parameter is a real number"
+    return None
+
+
 def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> None:
     reserved = reserved_name_message(symbol.name)
     if reserved is not None:  # a Symbol given in the data, say ls.omega or ls.s
         raise SceneError(f"the Symbol {symbol.name!r} in the data: {reserved}")
+    unfit = _unfit_symbol(symbol)
+    if unfit is not None:
+        raise SceneError(f"parameter {symbol.name!r}: {unfit}")
     known = declared.setdefault(symbol.name, symbol)
     if known != symbol:
         raise SceneError(f"two different Symbols are named {symbol.name!r} (assumptions "
