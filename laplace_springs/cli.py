@@ -150,7 +150,7 @@ def _build_parser(*, publish: bool = True) -> argparse.ArgumentParser:
                             "each mode's part in the initial data")
     solve.add_argument("--coordinates", metavar="NAMES",
                        help="with the formula: only these coordinates (or masses), e.g. x1,x5")
-    solve.add_argument("--dps", type=int, metavar="N",
+    solve.add_argument("--dps", type=strict_int, metavar="N",
                        help="with --at: evaluate with N decimal digits (mpmath) and print N digits")
     solve.add_argument("--unit", metavar="UNIT",
                        help="for a scene written with units: the unit of x in the output, e.g. cm "
@@ -228,7 +228,7 @@ def _param_values(items: Sequence[str]) -> dict[str, str]:
     for item in items:
         name, equals, value = item.partition("=")
         name = name.strip()
-        if not equals or not name or not value.strip():
+        if not equals or not name or not value.strip() or "=" in value:
             raise UsageError(f"--param: expected NAME=VALUE such as k=2, got {item!r}")
         if name in values:
             raise UsageError(f"--param: {name!r} is given twice")
@@ -285,6 +285,45 @@ def parse_times(text: str) -> list[float]:
 #: refuse: the command line reads numbers as they do.
 _PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def strict_int(text: str) -> int:
+    """An integer option: ASCII digits with an optional sign (argparse's ``type``).
+
+    Python's int() also takes ``1_0`` and other scripts' digits (``٣``); a scene's entries
+    do not, and neither does the command line.
+
+    Examples
+    --------
+    >>> strict_int(" 30 "), strict_int("-2")
+    (30, -2)
+    >>> strict_int("1_0")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected an integer such as 30, got '1_0'
+    """
+    if re.fullmatch(r"\s*[+-]?[0-9]+\s*", text) is None:
+        raise argparse.ArgumentTypeError(f"expected an integer such as 30, got {text!r}")
+    return int(text)
+
+
+def strict_float(text: str) -> float:
+    """A number option: a plain decimal number, ``nan`` or ``inf`` (refused by the command's
+    own checks with their reason), as argparse's ``type``.
+
+    Examples
+    --------
+    >>> strict_float("2.5"), strict_float("1e-3")
+    (2.5, 0.001)
+    >>> strict_float("٣")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected a number such as 2.5, got '٣'
+    """
+    item = text.strip()
+    if _PLAIN_NUMBER.fullmatch(item) is None and _NOT_FINITE.fullmatch(item) is None:
+        raise argparse.ArgumentTypeError(f"expected a number such as 2.5, got {text!r}")
+    return float(item)
 
 
 def _plain_number(item: str, what: str, convert, example: str) -> float:
@@ -538,7 +577,7 @@ def _add_response_command(commands) -> None:
                     "ratios, shapes) and, with --plot, draw |H(iω)| and its phase.")
     response.add_argument("scene", metavar="SCENE", help="a bundled scene name or a .toml path")
     response.add_argument("--plot", metavar="FILE", help="save the frequency-response plot to FILE")
-    response.add_argument("--force", type=int, default=1, metavar="J",
+    response.add_argument("--force", type=strict_int, default=1, metavar="J",
                           help="the coordinate (1-based) the unit harmonic force acts on (default 1)")
     response.add_argument("--at", metavar="W1,W2,...",
                           help="print the amplitude of each coordinate per unit force at these frequencies")
@@ -642,9 +681,9 @@ def _add_bench_command(commands) -> None:
     bench.add_argument("--quick", action="store_true",
                        help="a smaller method set (one tolerance per solver, no SymPy)")
     bench.add_argument("--large", action="store_true", help="include the battery's large scenes")
-    bench.add_argument("--time-limit", type=float, default=2.0, metavar="SECONDS",
+    bench.add_argument("--time-limit", type=strict_float, default=2.0, metavar="SECONDS",
                        help="per-run limit of a peer (default 2; raised where ours is slower)")
-    bench.add_argument("--sympy-limit", type=float, default=10.0, metavar="SECONDS",
+    bench.add_argument("--sympy-limit", type=strict_float, default=10.0, metavar="SECONDS",
                        help="limit of SymPy's inversion per scene (default 10)")
     bench.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     bench.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")

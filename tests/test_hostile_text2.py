@@ -242,3 +242,20 @@ def test_sympy_symbols_that_cannot_be_real_numbers_are_refused(assumptions, reas
 def test_sympy_symbols_of_unknown_sign_stay_parameters():
     for assumptions in ({}, {"real": True}, {"negative": True}, {"integer": True}):
         assert stiffness(sp.Symbol("m", **assumptions)).K[0, 0].is_Symbol
+
+
+@pytest.mark.parametrize("args", [["solve", "wall-pair", "--at", "1", "--dps", "٣"],
+                                  ["solve", "wall-pair", "--at", "1", "--dps", "1_0"],
+                                  ["response", "wall-pair", "--force", "٢"],
+                                  ["bench", "--list", "--time-limit", "1_0"]])
+def test_integer_and_number_options_read_as_the_scene_parser_does(capsys, args):
+    # Python's int() and float() take 1_0 and other scripts' digits; the options do not
+    code = main(args)
+    err = capsys.readouterr().err
+    assert code == 2 and "expected" in err and "Traceback" not in err, err
+
+
+def test_a_parameter_value_with_a_second_equals_sign_is_a_usage_error(capsys):
+    code = main(["solve", "wall-pair", "--param", "k=2=3"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err == "laplace-springs: error: --param: expected NAME=VALUE such as k=2, got 'k=2=3'"
