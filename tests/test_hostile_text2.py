@@ -259,3 +259,10 @@ def test_a_parameter_value_with_a_second_equals_sign_is_a_usage_error(capsys):
     code = main(["solve", "wall-pair", "--param", "k=2=3"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and err == "laplace-springs: error: --param: expected NAME=VALUE such as k=2, got 'k=2=3'"
+
+
+@pytest.mark.parametrize("names", ["a", b"a", 5, {"a": 1}])
+def test_names_must_be_a_sequence_of_strings(names):
+    # a string was taken as its characters: names="a" named the one coordinate 'a'
+    with pytest.raises(SceneError, match="names must be a sequence of strings"):
+        ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], names=names)

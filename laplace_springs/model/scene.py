@@ -1351,6 +1351,8 @@ class Scene:
         n = mass.rows
         damping = _optional_matrix(C, "C", mass, "M", convert)
         stiffness = _optional_matrix(K, "K", mass, "M", convert)
+        if isinstance(names, (str, bytes, Mapping)) or not (names is None or isinstance(names, Iterable)):
+            raise SceneError(f"names must be a sequence of strings, got {shown(names)}")
         coordinates = _default_names(n) if names is None else tuple(names)
         x0, v0, forcing = (_initial_by_mass(value, entry, coordinates) if isinstance(value, Mapping)
                            else value for value, entry in ((x0, "x0"), (v0, "v0"), (forcing, "forcing")))
