@@ -25,7 +25,7 @@ import sympy as sp
 from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
-from ..model.numbers import to_exact
+from ..model.numbers import shown, to_exact
 from ..model.units import times_to_seconds
 
 __all__ = ["Times", "as_times", "check_dps"]
@@ -120,7 +120,12 @@ def _convert(value: object, index: int) -> object:
         if not mpmath.isfinite(value):
             raise ValueError(f"times[{index}] must be finite, got {value}")
     elif isinstance(value, numbers.Real):
-        if not math.isfinite(float(value)):
+        try:
+            finite = math.isfinite(float(value))
+        except OverflowError:  # an int or Fraction beyond float64
+            raise ValueError(f"times[{index}] = {shown(value)} is beyond the float64 "
+                             "range") from None
+        if not finite:
             raise ValueError(f"times[{index}] must be finite, got {value!r}")
     else:
         raise ValueError(f"times[{index}] must be a number, got {value!r}")
@@ -128,10 +133,15 @@ def _convert(value: object, index: int) -> object:
 
 
 def _float_pair(value: object) -> tuple[float, float]:
-    if isinstance(value, (float, int, np.floating, np.integer)):
+    """(hi, lo) with hi + lo the time to double-double accuracy (an int beyond 2⁵³ too);
+    hi = inf beyond the float64 range."""
+    if isinstance(value, (float, np.floating)):
         return float(value), 0.0
     exact = _exact(value)
-    hi = float(exact)
+    try:
+        hi = float(exact)
+    except OverflowError:
+        return math.inf, 0.0
     return hi, float(exact - Fraction(hi)) if math.isfinite(hi) else 0.0
 
 
@@ -183,7 +193,7 @@ def as_times(times: object) -> Times:
             _refuse(i, values[i])
     if not np.all(np.isfinite(hi)):
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
-        raise ValueError(f"times[{i}] = {values[i]!r} is beyond the float64 range")
+        raise ValueError(f"times[{i}] = {shown(values[i])} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
 
 
