@@ -126,10 +126,11 @@ class _UnicodePrinter(_PlainPrinter):
         if exponent.is_Integer and exponent > 1:
             return self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Pow"]) \
                 + str(exponent).translate(_SUP)
-        return super()._print_Pow(expr, rational=rational)
+        return super()._print_Pow(expr, rational=rational).replace("**", "^")
 
     def _print_Mul(self, expr):
-        return super()._print_Mul(expr).replace("*", "·")
+        # a lone * is a product; ** (a power printed by the plain printer) is not
+        return re.sub(r"(?<!\*)\*(?!\*)", "·", super()._print_Mul(expr)).replace("**", "^")
 
 
 def _printer(pretty: bool) -> StrPrinter:

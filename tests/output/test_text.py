@@ -131,6 +131,26 @@ def test_pretty_uses_unicode_names(capsys):
     assert "**" not in out and "re(" not in out and "alpha" not in out
 
 
+def test_pretty_powers_with_fractional_exponents_read_back_as_the_same_number(capsys):
+    """Example 5 in its units has (625 − 25√193)^(3/2): the product's · must not eat the
+    power's ** (it printed "··(3/2)"). The pretty line, read back with ^ as a power, is the
+    plain line's number at t = 0.3."""
+    lines = []
+    for flags in ((), ("--pretty",)):
+        code, out, _ = run(capsys, "solve", "example5-in-units", *flags)
+        assert code == 0
+        lines.append(next(line for line in out.splitlines() if line.startswith("x")))
+    plain, pretty = lines
+    assert "··" not in pretty and "**" not in pretty and "^(3/2)" in pretty
+    readable = re.sub(r"√(\d+)", r"sqrt(\1)", pretty.split("= ", 1)[1])
+    readable = readable.replace("√", "sqrt").replace("·", "*").replace("^", "**")
+    t = sp.Symbol("t")
+    at = {t: sp.Rational(3, 10)}
+    expected = sp.sympify(plain.split("= ", 1)[1], locals={"t": t}).subs(at)
+    assert sp.N(sp.sympify(readable, locals={"t": t}).subs(at) - expected, 30) == \
+        pytest.approx(0, abs=1e-25)
+
+
 # ---------------------------------------------------------------------------- str(sol)
 
 
