@@ -133,3 +133,41 @@ def test_chebyshev_on_one_mass_keeps_its_bound(k):
     for order in (0, 1, 2):
         values, bounds = sol.evaluate(times, return_error=True, derivative=order)
         assert_bounded(values, bounds, motion(scene, times, order))
+
+
+# ----------------------------------------------------------------------------- certified
+
+
+def _diagonal(entries):
+    return [[entries[i] if i == j else 0 for j in range(len(entries))] for i in range(len(entries))]
+
+
+def test_certified_keeps_the_exact_zeros_of_uncoupled_critical_masses():
+    """Six uncoupled critically damped masses (double poles −1/2 (twice), −4/3, −1/3, −10,
+    −5/6): x_4 does not move with the other poles, but its residues there were balls around
+    zero whose midpoints the float64 pole sum added: x_4'(12.5) ≈ −3.3e-52 off by 6.5e-60
+    with a bound of 3.3e-67."""
+    scene = ls.Scene.from_matrices(
+        M=_diagonal([4, "9/4", 4, 1, 4, 9]), C=_diagonal([4, 6, "8/3", 20, 4, 15]),
+        K=_diagonal([1, 4, "4/9", 100, 1, "25/4"]),
+        x0=["3/2", 2, "1/10", 1, "-1/2", "1/2"], v0=[0, -5, -5, -5, 0, -5])
+    sol = ls.solve(scene, method="certified")
+    times = [0.0, "0.1", 3.3, 12.5, 40.0]
+    for order in (0, 1, 2):
+        values, bounds = sol.evaluate(times, return_error=True, derivative=order)
+        assert_bounded(values, bounds, motion(scene, times, order))
+
+
+@pytest.mark.parametrize("method", ["auto", "certified", "tiny", "modal"])
+def test_certified_poles_a_hair_apart(method):
+    """Two critically damped masses coupled by a spring of 1e-60: the poles −1/2 and −10
+    split by about 1e-61. At 64 bits the residues were NaN balls, which the precision check
+    passed over (max() skips a NaN), and every engine escalating to certified raised
+    flint's "man_exp requires an exact, finite value"."""
+    scene = ls.Scene.from_matrices(M=[[4, 0], [0, 1]], C=[[4, 0], [0, 20]],
+                                   K=[[1, "-1e-60"], ["-1e-60", 100]], x0=[1, 0], v0=[0, 0])
+    sol = ls.solve(scene, method=method)
+    times = [1.0, 12.5, 40.0, 100.0]
+    for order in (0, 1):
+        values, bounds = sol.evaluate(times, return_error=True, derivative=order)
+        assert_bounded(values, bounds, motion(scene, times, order))

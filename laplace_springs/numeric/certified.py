@@ -169,7 +169,12 @@ class CertifiedPoles:
 
 
 def _precision(poles: list[_Pole]) -> float:
-    """The worst relative radius of the roots and of the coefficients (normwise)."""
+    """The worst relative radius of the roots and of the coefficients (normwise); inf
+    when a ball is not finite (max() would pass over a NaN midpoint: a pole sum of NaN
+    coefficients at 64 bits for poles 1e-61 apart)."""
+    if not all(p.root.is_finite() and all(c.is_finite() for row in p.coefficients for c in row)
+               for p in poles):
+        return math.inf
     roots = max((_relative_radius(p.root) for p in poles), default=0.0)
     sizes = [float(abs(c).mid()) for p in poles for row in p.coefficients for c in row]
     radii = [float(abs(c).rad()) for p in poles for row in p.coefficients for c in row]
@@ -234,15 +239,32 @@ def _poles(data: CertifiedPoles, bits: int) -> list[_Pole]:
             rest = data.denominator
             for _ in range(m):
                 rest = rest / q  # exact: q^m divides D
+            orders = [m - _divides(N, q, m) for N in data.numerators]
             for root, _ in q.complex_roots():
                 if root.imag < 0:
                     continue
-                out.append(_pole(data, q, m, rest, root))
+                out.append(_pole(data, q, m, rest, root, orders))
     return out
 
 
-def _pole(data: CertifiedPoles, q, m: int, rest, root) -> _Pole:
-    """Residue coefficients at a root ρ of q, D = q^m · rest: N/D = N(ρ+u)/(u^m h(u))."""
+def _divides(N, q, m: int) -> int:
+    """The largest j ≤ m with q^j dividing N (exact)."""
+    j = 0
+    while j < m and (N == 0 or N % q == 0):
+        if N != 0:
+            N = N / q
+        j += 1
+    return j
+
+
+def _pole(data: CertifiedPoles, q, m: int, rest, root, orders: list[int]) -> _Pole:
+    """Residue coefficients at a root ρ of q, D = q^m · rest: N/D = N(ρ+u)/(u^m h(u)).
+
+    ``orders[i]`` is the order of the pole of N_i/D at ρ (m less the power of q dividing
+    N_i): the coefficients of t^k, k ≥ orders[i], are exactly zero and kept so, not as
+    balls around zero whose midpoints a float64 pole sum would add to x_i (a coordinate
+    that does not move with ρ: two uncoupled critically damped masses, x_2 ≈ 3e-53 off by
+    6e-59 with a bound of 3e-67)."""
     slope = _taylor(q, root, m + 1)[1:]          # q(ρ+u)/u
     h = [acb(1)] + [acb(0)] * (m - 1)
     for _ in range(m):
@@ -252,7 +274,7 @@ def _pole(data: CertifiedPoles, q, m: int, rest, root) -> _Pole:
     coefficients = [[acb(0)] * data.n for _ in range(m)]
     for i, N in enumerate(data.numerators):
         series = _series_mul(_taylor(N, root, m), inverse)
-        for k in range(m):  # residue of e^{λt} N/D: Σ_k [u^{m-1-k}](N/h) t^k/k!
+        for k in range(orders[i]):  # residue of e^{λt} N/D: Σ_k [u^{m-1-k}](N/h) t^k/k!
             coefficients[k][i] = series[m - 1 - k] / math.factorial(k)
     return _Pole(root, coefficients, 1 if root.imag == 0 else 2)
 
