@@ -48,6 +48,9 @@ import sympy as sp
 from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
+from .cli_numbers import NOT_FINITE as _NOT_FINITE
+from .cli_numbers import PLAIN_NUMBER as _PLAIN_NUMBER
+from .cli_numbers import strict_float, strict_int
 from .exact.screening import has_exact_form
 from .limits import limits
 from .model.errors import InversionError, SceneError
@@ -283,49 +286,6 @@ def parse_times(text: str) -> list[float]:
 #: A plain number on the command line: ASCII digits, an optional point and exponent.
 #: Python's float() takes more (``1_0``, Arabic-Indic ``٣``), which the entries of a scene
 #: refuse: the command line reads numbers as they do.
-_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
-
-
-def strict_int(text: str) -> int:
-    """An integer option: ASCII digits with an optional sign (argparse's ``type``).
-
-    Python's int() also takes ``1_0`` and other scripts' digits (``٣``); a scene's entries
-    do not, and neither does the command line.
-
-    Examples
-    --------
-    >>> strict_int(" 30 "), strict_int("-2")
-    (30, -2)
-    >>> strict_int("1_0")
-    Traceback (most recent call last):
-    ...
-    argparse.ArgumentTypeError: expected an integer such as 30, got '1_0'
-    """
-    if re.fullmatch(r"\s*[+-]?[0-9]+\s*", text) is None:
-        raise argparse.ArgumentTypeError(f"expected an integer such as 30, got {text!r}")
-    return int(text)
-
-
-def strict_float(text: str) -> float:
-    """A number option: a plain decimal number, ``nan`` or ``inf`` (refused by the command's
-    own checks with their reason), as argparse's ``type``.
-
-    Examples
-    --------
-    >>> strict_float("2.5"), strict_float("1e-3")
-    (2.5, 0.001)
-    >>> strict_float("٣")
-    Traceback (most recent call last):
-    ...
-    argparse.ArgumentTypeError: expected a number such as 2.5, got '٣'
-    """
-    item = text.strip()
-    if _PLAIN_NUMBER.fullmatch(item) is None and _NOT_FINITE.fullmatch(item) is None:
-        raise argparse.ArgumentTypeError(f"expected a number such as 2.5, got {text!r}")
-    return float(item)
-
-
 def _plain_number(item: str, what: str, convert, example: str) -> float:
     """An ``--at`` item as a float: a plain number, NaN or an infinity (refused by the
     caller), or a number with a unit (``convert`` takes it to SI); else a UsageError."""

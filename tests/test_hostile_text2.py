@@ -247,7 +247,12 @@ def test_sympy_symbols_of_unknown_sign_stay_parameters():
 @pytest.mark.parametrize("args", [["solve", "wall-pair", "--at", "1", "--dps", "٣"],
                                   ["solve", "wall-pair", "--at", "1", "--dps", "1_0"],
                                   ["response", "wall-pair", "--force", "٢"],
-                                  ["bench", "--list", "--time-limit", "1_0"]])
+                                  ["bench", "--list", "--time-limit", "1_0"],
+                                  ["animate", "wall-pair", "-o", "a.gif", "--t-end", "٣"],
+                                  ["animate", "wall-pair", "-o", "a.gif", "--duration", "1_0"],
+                                  ["animate", "wall-pair", "-o", "a.gif", "--speed", "٢"],
+                                  ["animate", "wall-pair", "-o", "a.gif", "--fps", "1_0"],
+                                  ["animate", "wall-pair", "-o", "a.gif", "--dpi", "8_0"]])
 def test_integer_and_number_options_read_as_the_scene_parser_does(capsys, args):
     # Python's int() and float() take 1_0 and other scripts' digits; the options do not
     code = main(args)

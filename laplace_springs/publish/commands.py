@@ -18,6 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
+from ..cli_numbers import strict_float, strict_int
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..output.animation import animate
@@ -43,15 +44,15 @@ def add_publish_commands(commands: Any, add_common_options: Callable[[argparse.A
     movie.add_argument("scene", metavar="SCENE", help="a bundled scene name or a .toml path")
     movie.add_argument("-o", "--output", metavar="FILE", required=True,
                        help="the file to write: .gif, .mp4 (needs ffmpeg) or .html")
-    movie.add_argument("--t-end", type=float, metavar="T", help="last time shown (default: a few periods)")
+    movie.add_argument("--t-end", type=strict_float, metavar="T", help="last time shown (default: a few periods)")
     timing = movie.add_mutually_exclusive_group()
-    timing.add_argument("--duration", type=float, metavar="S", help="length of the clip in seconds")
-    timing.add_argument("--speed", type=float, metavar="X", help="simulated seconds per second of clip")
-    movie.add_argument("--fps", type=int, default=20, help="frames per second (default 20)")
+    timing.add_argument("--duration", type=strict_float, metavar="S", help="length of the clip in seconds")
+    timing.add_argument("--speed", type=strict_float, metavar="X", help="simulated seconds per second of clip")
+    movie.add_argument("--fps", type=strict_int, default=20, help="frames per second (default 20)")
     movie.add_argument("--masses", metavar="X1,X2,...", help="animate these coordinates only")
     movie.add_argument("--no-curves", action="store_true", help="the diagram alone, without x(t)")
     movie.add_argument("--values", action="store_true", help="write the values beside the labels")
-    movie.add_argument("--dpi", type=float, default=80, help="resolution of the frames (default 80)")
+    movie.add_argument("--dpi", type=strict_float, default=80, help="resolution of the frames (default 80)")
     add_common_options(movie)
     movie.set_defaults(run=lambda args, out: _run_animate(args, out, scene_of))
 
