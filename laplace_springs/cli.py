@@ -48,15 +48,15 @@ import sympy as sp
 from ._version import __version__
 from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
-from .cli_numbers import NOT_FINITE as _NOT_FINITE
-from .cli_numbers import PLAIN_NUMBER as _PLAIN_NUMBER
-from .cli_numbers import strict_float, strict_int
 from .exact.screening import has_exact_form
 from .limits import limits
 from .model.errors import InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.names import coordinate_index
 from .model.numbers import NOT_FINITE_REAL, split_unit
+from .model.options import NOT_FINITE as _NOT_FINITE
+from .model.options import PLAIN_NUMBER as _PLAIN_NUMBER
+from .model.options import strict_float, strict_int
 from .model.scene import Scene
 from .model.scene_files import bundled_scenes, load_scene
 from .model.text_files import read_text_file

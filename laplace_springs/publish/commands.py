@@ -18,8 +18,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
-from ..cli_numbers import strict_float, strict_int
 from ..model.errors import SceneError
+from ..model.options import strict_float, strict_int
 from ..model.scene import Scene
 from ..output.animation import animate
 from ..solving import solve
