@@ -271,3 +271,12 @@ def test_names_must_be_a_sequence_of_strings(names):
     # a string was taken as its characters: names="a" named the one coordinate 'a'
     with pytest.raises(SceneError, match="names must be a sequence of strings"):
         ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], names=names)
+
+
+def test_animate_masses_option_names_the_empty_item_and_reads_numbers(capsys, tmp_path):
+    code = main(["animate", "wall-pair", "-o", str(tmp_path / "a.gif"), "--masses", "1,,2"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err == "laplace-springs: error: animate: --masses '1,,2': item 2 is empty"
+    code = main(["animate", "wall-pair", "-o", str(tmp_path / "a.gif"), "--masses", "3"])
+    err = capsys.readouterr().err
+    assert code == 2 and "numbers from 1 to 2; got 3" in err, err

@@ -14,6 +14,7 @@ Examples
 from __future__ import annotations
 
 import argparse
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
@@ -73,12 +74,30 @@ def _run_animate(args: argparse.Namespace, out: TextIO, scene_of: SceneReader) -
     path = Path(args.output)
     if path.suffix.lower() not in (".gif", ".mp4", ".html"):
         raise SceneError(f"animate: -o {args.output!r}: the file name must end in .gif, .mp4 or .html")
-    masses = [item.strip() for item in args.masses.split(",")] if args.masses else None
+    masses = _masses_option(args.masses) if args.masses else None
     solution = solve(scene_of(args))
     movie = animate(solution, t_end=args.t_end, duration=args.duration, speed=args.speed,
                     fps=args.fps, curves=not args.no_curves, masses=masses, show_values=args.values)
     movie.save(path, dpi=args.dpi)
     print(f"wrote {path} ({len(movie)} frames, t = 0 to {movie.times[-1]:g} s)", file=out)
+
+
+def _masses_option(text: str) -> list[str | int]:
+    """``--masses x1,x3`` or ``1,3``: coordinate names, or their numbers from 1.
+
+    >>> _masses_option("x1, 3")
+    ['x1', 3]
+    >>> _masses_option("1,,2")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: animate: --masses '1,,2': item 2 is empty
+    """
+    items: list[str | int] = []
+    for position, item in enumerate((part.strip() for part in text.split(",")), start=1):
+        if not item:
+            raise SceneError(f"animate: --masses {text!r}: item {position} is empty")
+        items.append(int(item) if re.fullmatch(r"[0-9]+", item) else item)
+    return items
 
 
 def _run_page(args: argparse.Namespace, out: TextIO, scene_of: SceneReader) -> None:
