@@ -149,9 +149,9 @@ def _eye(size: int) -> np.ndarray:
     return _EYES[size]
 
 
-def _first_order(n: int, A: dict[tuple[int, int], Any],
-                 B: dict[tuple[int, int], Any]) -> tuple[float, np.ndarray, np.ndarray | None]:
-    """(σ, Z, Z_lo): σ a power of two near the frequency scale and Z = [[0, σI],
+def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any]
+                 ) -> tuple[float, np.ndarray, np.ndarray | None, float]:
+    """(σ, Z, Z_lo, ‖Z‖_F): σ a power of two near the frequency scale and Z = [[0, σI],
     [−A/σ, −B]] as hi + lo, hi the entries correctly rounded and lo their rounded
     remainders (Z_lo None when every entry is a float64 number). Scaling by σ (a power of
     two) is exact while the scaled entries stay in float64's normal range, as they do for
@@ -178,7 +178,8 @@ def _first_order(n: int, A: dict[tuple[int, int], Any],
             if low:
                 lo = lo or [[0.0] * size for _ in range(size)]
                 lo[i][j] = float(low) * factor
-    return sigma, np.array(hi), None if lo is None else np.array(lo)
+    norm = math.sqrt(n * sigma * sigma + sum(row[j] * row[j] for row in hi[n:] for j in range(size)))
+    return sigma, np.array(hi), None if lo is None else np.array(lo), norm
 
 
 class _Block:
@@ -227,7 +228,7 @@ class BlockMotion:
                  x0: np.ndarray, v0: np.ndarray) -> None:
         self.failure: str | None = None
         self.n = n
-        self.sigma, self.Z, self.Z_lo = _first_order(n, A, B)
+        self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B)
         self.y0 = np.concatenate([x0, v0 / self.sigma])
         w, V = _eig(self.Z)
         self.poles = w
@@ -430,13 +431,14 @@ class BlockMotion:
             self.failure = f"the basis is too ill-conditioned (‖I − X⁻¹X‖ = {theta:.2g})"
             return
         inverse = Y_norm / (1 - theta)  # ≥ ‖X⁻¹‖₂
-        R_error = ((2 * size + 6) * _U_LONG * (_norm(self.Z) + B_norm) * X_norm
+        R_error = ((2 * size + 6) * _U_LONG * (self.Z_norm + B_norm) * X_norm
                    + U * R_norm)
         phi = (F_norm + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
-        c_norm, y0_norm = _norm(c), _norm(self.y0)
+        c_norm = math.sqrt(sum(z.real * z.real + z.imag * z.imag for z in coefficients))
+        y0_norm = _norm(self.y0)
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
-        r0 = _norm((X_long @ c.astype(np.clongdouble) - self.y0).astype(complex))
+        r0 = _norm(X_long @ c.astype(np.clongdouble) - self.y0)
         r0_error = (2 * size + 4) * _U_LONG * (X_norm * c_norm + y0_norm) + U * (y0_norm + r0)
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
