@@ -478,7 +478,8 @@ def chebyshev_cost(scene: Scene, *, t_max: float, count: int, order: int) -> flo
 
     The model (the development machine, 2 cores, OpenBLAS; fitted to Rayleigh chains of
     1,000 to 100,000 masses at t = 10 to 1,000 and 1 to 1,000 times): 5e-6 s per nonzero
-    read; the recurrence 6e-9 s per (nonzero of K + n) and degree (long-double products);
+    read; the recurrence 6e-9 s per (nonzero of K + n) and degree (long-double products),
+    at least 9e-6 s per degree (the step's overhead, which dominates below ~500 masses);
     per time 4e-8·N·log N (nodes, DCT) + 2e-9·n·N (the product) + 1e-9·n·N for the bound;
     a third more per derivative order. Memory: the vectors, 8·n·(N + 1) bytes per column.
 
@@ -498,7 +499,9 @@ def chebyshev_cost(scene: Scene, *, t_max: float, count: int, order: int) -> flo
     nnz = sum(len(rational_entries(scene, name) or {}) for name in ("M", "C", "K"))
     columns = 2 if any(v != 0 for v in scene.v0) else 1
     read = 5e-6 * nnz
-    recurrence = 6e-9 * (nnz + n) * N * columns
+    # a step costs at least its Python and sparse-call overhead, about 9 µs (6 masses at
+    # t = 1e5: N = 412,432 in 3.6 s, where the per-entry model alone said 0.1 s)
+    recurrence = max(6e-9 * (nnz + n) * columns, 9e-6) * N
     per_time = (4e-8 * N * math.log2(N + 2) + 3e-9 * n * N * columns) * (1 + order / 3)
     return read + recurrence + count * per_time
 
