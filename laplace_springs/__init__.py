@@ -33,6 +33,7 @@ _PUBLIC: dict[str, tuple[str, str]] = {
     "LimitError": ("model.errors", "LimitError"),
     "InternalError": ("model.errors", "InternalError"),
     "InversionError": ("model.errors", "InversionError"),
+    "InitialDataWarning": ("model.errors", "InitialDataWarning"),
     "load_scene": ("model.scene_files", "load_scene"),
     "bundled_scenes": ("model.scene_files", "bundled_scenes"),
     "cosine": ("model.forcing", "cosine"),
@@ -120,7 +121,8 @@ TARGET = _DEFAULTS.target
 
 __all__ = [
     "Explorer", "SceneAnimation", "WorkedExample", "animate", "explore", "worked_example",
-    "CertifiedSolution", "EvaluationReport", "ExactSolution", "InternalError", "InversionError",
+    "CertifiedSolution", "EvaluationReport", "ExactSolution", "InitialDataWarning",
+    "InternalError", "InversionError",
     "KrylovSolution", "LimitError", "Limits", "ModalSolution", "Mode", "Periodic", "Plan",
     "Resolvent", "Sampled", "SampledSolution", "Scene", "SceneError", "SceneUnits", "Solution",
     "SweepResult", "TARGET", "Verification", "__version__", "bundled_scenes", "cosine",
@@ -166,7 +168,13 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
     from .exact.laplace import laplace
     from .exact.partial_fractions import partial_fractions
     from .exact.resolvent import Resolvent, resolvent
-    from .model.errors import InternalError, InversionError, LimitError, SceneError
+    from .model.errors import (
+        InitialDataWarning,
+        InternalError,
+        InversionError,
+        LimitError,
+        SceneError,
+    )
     from .model.forcing import cosine, impulse, ramp, sine, step
     from .model.periodic import Periodic, periodic, pulse_train, sawtooth, square_wave
     from .model.sampled import Sampled, sampled, sampled_from_csv

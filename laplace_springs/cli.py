@@ -37,6 +37,7 @@ import re
 import stat
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
@@ -50,7 +51,7 @@ from .analysis.frequency import frequency_response
 from .analysis.modes import float_modes, modes
 from .exact.screening import has_exact_form
 from .limits import limits
-from .model.errors import InversionError, SceneError
+from .model.errors import InitialDataWarning, InversionError, SceneError
 from .model.forcing import parse_forcing
 from .model.names import coordinate_index
 from .model.numbers import NOT_FINITE_REAL, split_unit
@@ -724,7 +725,9 @@ def main(argv: list[str] | None = None) -> int:
     debug = getattr(args, "debug", False)
     try:
         _check_arguments(args)  # every number and output path, before any work
-        args.run(args, sys.stdout)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_note
+            args.run(args, sys.stdout)
         sys.stdout.flush()
     except BrokenPipeError:  # output piped into `head` and closed early: stop quietly
         _silence_stdout()
@@ -740,6 +743,19 @@ def main(argv: list[str] | None = None) -> int:
         return _report(f"{type(exc).__name__}: {_user_message(exc)}{hint}",
                        kind="internal error", status=_EXIT_INTERNAL)
     return 0
+
+
+_PYTHON_SHOWWARNING = warnings.showwarning
+
+
+def _show_note(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+               file: TextIO | None = None, line: str | None = None) -> None:
+    """Initial data a scene's equations do not keep, as one line ``laplace-springs: note:``
+    on stderr; other warnings as Python shows them."""
+    if issubclass(category, InitialDataWarning):
+        print(f"laplace-springs: note: {message}", file=sys.stderr)
+    else:
+        _PYTHON_SHOWWARNING(message, category, filename, lineno, file, line)
 
 
 #: Output files the commands write, by (command, option): the suffixes allowed (None: any).

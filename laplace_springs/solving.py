@@ -9,15 +9,22 @@ first engine that can hold the scene, and records the plan's reason. Each later
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
 
 from .limits import limits
-from .model.errors import FloatRangeError, InversionError, LimitError, SceneError
+from .model.errors import (
+    FloatRangeError,
+    InitialDataWarning,
+    InversionError,
+    LimitError,
+    SceneError,
+)
 from .model.sampled import formula_part
 from .model.scene import Scene
-from .numeric.first_order import symbolic_entries
+from .numeric.first_order import massless_nodes, symbolic_entries
 from .numeric.modal import ModalMotion
 from .numeric.times import as_times, check_dps
 from .planning.engines import Refusal, engine
@@ -118,8 +125,36 @@ def _finish(solution: Solution, chosen: Plan, method: str, refusals: list[Refusa
     solution.requested = method
     solution.excluded = frozenset(r.engine for r in refusals if r.engine != solution.method)
     others = [r for r in refusals if r.engine != solution.method]
-    solution.reason = chosen.reason + "".join(f"; {r}" for r in others) + _warnings(solution)
+    notes = _dropped_initial_data(solution)
+    solution.reason = chosen.reason + "".join(f"; {r}" for r in others) + _warnings(solution) \
+        + "".join(f"; note: {note}" for note in notes)
+    for note in notes:
+        warnings.warn(note, InitialDataWarning, stacklevel=3)
     return solution
+
+
+def _dropped_initial_data(solution: Solution) -> list[str]:
+    """Sentences for the entries of x0 (and nonzero entries of v0) at massless nodes that
+    the motion does not start from: on the exact route from its ``initial_jump`` (the only
+    route that takes a massless node without a dashpot); on the others, whose massless
+    nodes keep x0, the nonzero entries of v0 (nothing is computed)."""
+    scene = solution.scene
+    if not massless_nodes(scene):
+        return []
+    names, notes = scene.names, []
+    if solution.method not in ("exact", "mp"):  # x0 kept (a dashpot holds the node)
+        return [f"v0[{names[i]}] = {scene.v0[i]} is not kept: {names[i]} has no mass, its "
+                "velocity follows from its equation" for i in massless_nodes(scene)
+                if scene.v0[i] != 0]
+    jump = solution.initial_jump
+    for i in massless_nodes(scene):
+        if jump.position[i] != 0:
+            notes.append(f"x0[{names[i]}] = {scene.x0[i]} is not kept: {names[i]} has no mass "
+                         f"and its springs set {names[i]}(0⁺) = {jump.x_plus[i]} (a jump at t = 0)")
+        if scene.v0[i] != 0 and jump.velocity[i] != 0:
+            notes.append(f"v0[{names[i]}] = {scene.v0[i]} is not kept: {names[i]} has no mass, "
+                         f"its equation sets {names[i]}'(0⁺) = {jump.v_plus[i]}")
+    return notes
 
 
 def _build(name: str, scene: Scene, chosen: Plan, target: float,

@@ -280,3 +280,14 @@ def test_animate_masses_option_names_the_empty_item_and_reads_numbers(capsys, tm
     code = main(["animate", "wall-pair", "-o", str(tmp_path / "a.gif"), "--masses", "3"])
     err = capsys.readouterr().err
     assert code == 2 and "numbers from 1 to 2; got 3" in err, err
+
+
+def test_the_cli_names_initial_data_a_massless_node_cannot_keep(capsys, tmp_path):
+    path = tmp_path / "massless.toml"
+    path.write_text('[masses]\nm1 = 1\nm2 = 0\n[springs]\nk1 = ["wall", "m1", 1]\n'
+                    'k2 = ["m1", "m2", 1]\n[initial]\nx0 = [1, 5]\nv0 = [0, 0]\n')
+    code = main(["solve", str(path)])
+    captured = capsys.readouterr()
+    assert code == 0 and "x2(t) = cos(t)" in captured.out
+    assert captured.err.strip() == ("laplace-springs: note: x0[x2] = 5 is not kept: x2 has no "
+                                    "mass and its springs set x2(0⁺) = 1 (a jump at t = 0)")

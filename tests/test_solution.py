@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import mpmath
 import numpy as np
@@ -149,3 +150,32 @@ def test_evaluating_a_scene_with_parameters_names_them():
                                             "parameters c, k"):
         sol.evaluate([1.0])
     assert sol.subs({"k": 4, "c": "1/10"}).evaluate([0.0]).tolist() == [[1.0]]
+
+
+def test_initial_data_a_massless_node_cannot_keep_are_named_not_dropped_silently():
+    """x2 has no mass and no dashpot: −x1 + x2 = 0 sets x2(0⁺) = x1(0) = 1 (by hand), so the
+    given x0[x2] = 5 and v0[x2] = 3 are not kept; the solution says so and warns."""
+    scene = ls.Scene.from_matrices(M=[[1, 0], [0, 0]], K=[[2, -1], [-1, 1]], x0=[1, 5],
+                                   v0=[0, 3])
+    with pytest.warns(ls.InitialDataWarning) as caught:
+        sol = ls.solve(scene)
+    messages = [str(w.message) for w in caught]
+    assert any("x0[x2] = 5 is not kept" in m and "x2(0⁺) = 1" in m for m in messages)
+    assert any("v0[x2] = 3 is not kept" in m for m in messages)
+    assert "note: x0[x2] = 5 is not kept" in sol.reason
+    # x1'' + x1 = 0 with x1(0) = 1: cos t, and x2 follows x1
+    assert np.allclose(sol.evaluate([0.5]), np.cos(0.5), rtol=1e-14)
+    # a dashpot holds the node: x0 kept, the given velocity is not
+    held = ls.Scene.from_matrices(M=[[1, 0], [0, 0]], C=[[0, 0], [0, 1]], K=[[2, -1], [-1, 1]],
+                                  x0=[1, 5], v0=[0, 7])
+    with pytest.warns(ls.InitialDataWarning, match=r"v0\[x2\] = 7 is not kept"):
+        ls.solve(held)
+
+
+def test_consistent_initial_data_at_massless_nodes_give_no_warning():
+    scene = ls.Scene.from_matrices(M=[[1, 0], [0, 0]], K=[[2, -1], [-1, 1]], x0=[1, 1],
+                                   v0=[0, 0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ls.InitialDataWarning)
+        sol = ls.solve(scene)
+    assert "not kept" not in sol.reason

@@ -14,7 +14,8 @@
 
 from __future__ import annotations
 
-__all__ = ["SceneError", "LimitError", "FloatRangeError", "InternalError", "InversionError"]
+__all__ = ["SceneError", "LimitError", "FloatRangeError", "InternalError", "InversionError",
+           "InitialDataWarning"]
 
 
 class SceneError(ValueError):
@@ -49,3 +50,9 @@ class InversionError(ValueError):
     Raised, for example, for a non-rational transform or for an irreducible
     factor of degree three or more whose coefficients are symbolic.
     """
+
+
+class InitialDataWarning(UserWarning):
+    """Given initial data the equations do not keep: a massless node's position set by its
+    springs, or a velocity a massless node cannot have. The motion starts from x(0⁺),
+    x'(0⁺); the solution's ``reason`` says the same."""
