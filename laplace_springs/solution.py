@@ -253,8 +253,10 @@ class Solution(ABC):
             values, bounds = self._digits_by(plan, T, order, request.dps or 0)
             report = EvaluationReport(plan, (plan.primary or "",) * len(T), np.zeros(len(T)))
         else:
-            values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order, goal,
-                                             self._floor(order), progress=progress)
+            # an engine's overflow shows as an infinite bound, never a NumPy warning
+            with np.errstate(all="ignore"):
+                values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order,
+                                                 goal, self._floor(order), progress=progress)
             sizes = np.abs(values)
             _check_float_result(values, sizes, T, report, goal)
             # the executor's own arrays: floored in place

@@ -96,6 +96,14 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     if facts.symbolic and method not in ("auto", "exact", "mp"):
         raise SceneError(f"the {method} route needs numbers, but these entries are symbolic: "
                          + ", ".join(symbolic_entries(scene)) + "; use method='exact'")
+    # an engine's overflow is its refusal or an infinite bound, never a NumPy warning
+    with np.errstate(all="ignore"):
+        return _planned_solution(scene, facts, method, target)
+
+
+def _planned_solution(scene: Scene, facts: Any, method: str, target: float) -> Solution:
+    """The solution of the plan's first engine that takes the scene and, for "auto", meets
+    the target at the probe times (else the tightest that was built)."""
     available = set(BUILDERS)
     refusals: list[Refusal] = []
     probed: list[tuple[float, Solution, Plan]] = []  # engines whose own bound missed

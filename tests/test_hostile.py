@@ -160,6 +160,7 @@ EXTREMES = {
 }
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # the engines' overflows stay inside
 @pytest.mark.parametrize("name", EXTREMES)
 def test_scenes_at_the_limits_are_solved_within_their_bounds(name):
     scene = Scene.from_matrices(**EXTREMES[name])
