@@ -20,6 +20,7 @@ evaluation to any number of digits.
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -258,7 +259,7 @@ class Solution(ABC):
                 values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order,
                                                  goal, self._floor(order), progress=progress)
             sizes = np.abs(values)
-            _check_float_result(values, sizes, T, report, goal)
+            _check_float_result(values, sizes, T, report, goal, order)
             # the executor's own arrays: floored in place
             bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
             bounds += _TINY
@@ -532,8 +533,24 @@ class Solution(ABC):
 
     # -- shared helpers -----------------------------------------------------------------
     def _floor(self, order: int) -> float:
-        """S₀·ρ^order: the contract's floor for the order-th derivative."""
-        return self._base_floor * self._spectral_radius**order
+        """S₀·ρ^order: the contract's floor for the order-th derivative.
+
+        Raises
+        ------
+        OverflowError
+            When it is beyond the float64 range (a pole of 1e300 and x''): the contract's
+            scale, and so every bound relative to it, cannot be formed.
+        """
+        floor = self._base_floor
+        for _ in range(order):
+            floor *= self._spectral_radius
+        if not math.isfinite(floor):
+            name = "x" + "'" * order
+            raise OverflowError(
+                f"{name}(t): the contract's scale S₀·ρ^{order} is beyond the float64 range "
+                f"(S₀ = {self._base_floor:.3g}, the largest pole ρ = {self._spectral_radius:.3g}); "
+                "no evaluation of this derivative can be judged against it")
+        return floor
 
     @cached_property
     def _base_floor(self) -> float:
@@ -567,26 +584,27 @@ _HUGE = float(np.finfo(float).max) / 4
 
 
 def _check_float_result(values: np.ndarray, sizes: np.ndarray, times: Times,
-                        report: EvaluationReport, target: float) -> None:
+                        report: EvaluationReport, target: float, order: int = 0) -> None:
     """Raise rather than return a value beyond float64 (``sizes`` = |values|), or one no
     engine could bound within max(target, Limits.refusal_bound) of the scale."""
     worst = report.relative_bounds
     refusal = max(target, limits().refusal_bound)
     if values.size and float(sizes.max()) <= _HUGE and float(worst.max()) <= refusal:
         return  # every value within range, every bound within the refusal bound
+    name = "x" + "'" * order
     with np.errstate(invalid="ignore"):
-        huge = np.isfinite(values) & (sizes > _HUGE)
+        huge = sizes > _HUGE   # an infinite value too (NaN is not)
     if huge.any():
         column = int(np.flatnonzero(huge.any(axis=0))[0])
-        raise OverflowError(f"x(t) at t = {float(times.hi[column])!r} is beyond the float64 range; "
-                            "evaluate(..., dps=30) gives it")
+        raise OverflowError(f"{name}(t) at t = {float(times.hi[column])!r} is beyond the float64 "
+                            "range; evaluate(..., dps=30) gives it")
     missed = np.flatnonzero(~(worst <= refusal))
     if missed.size:
         column = int(missed[0])
         tried = ", ".join(report.plan.chain) or "none"
         bound = "no bound" if not np.isfinite(worst[column]) else f"a bound of {worst[column]:.1e}"
         raise LimitError(
-            f"x(t) at t = {float(times.hi[column])!r}: the engines of the plan ({tried}) give "
+            f"{name}(t) at t = {float(times.hi[column])!r}: the engines of the plan ({tried}) give "
             f"{bound} of the solution's scale, above max(target, Limits.refusal_bound) = "
             f"{max(target, limits().refusal_bound):g}"
             + (f" ({missed.size} times in all)" if missed.size > 1 else "")

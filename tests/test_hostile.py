@@ -194,3 +194,13 @@ def test_a_scene_beyond_the_numeric_size_limit_is_refused_at_once_for_that_reaso
     rational = Scene.from_components(masses=masses, springs=springs, x0={"m1": 1},
                                      dashpots={"c": ("ground", "m1", "1/10")})
     assert solve(rational).method == "krylov"  # the sparse route takes it, at once
+
+
+@pytest.mark.parametrize("name", ["tiny mass, huge spring", "huge damping"])
+def test_a_derivative_whose_scale_is_beyond_float64_is_a_clear_error(name):
+    """ρ = 1e300: S₀ρ² overflows, and no bound of x'' can be judged against it (an engine
+    gave x''(0) = 0 with a bound of 5e-324 where x''(0) = −(c·v0 + k·x0)/m = −1 once the
+    scale was allowed to be inf); the error says so instead of Python's errno text."""
+    scene = Scene.from_matrices(**EXTREMES[name])
+    with pytest.raises(OverflowError, match=r"x''\(t\): the contract's scale S₀·ρ\^2 is beyond"):
+        solve(scene).evaluate([0.0, 1.0], derivative=2)
