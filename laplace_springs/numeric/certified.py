@@ -284,21 +284,39 @@ def _pole_sum(n: int, poles: list[_Pole], dps: int) -> PoleSum:
     nodes: list[Any] = []
     coefficients: list[tuple[tuple[Any, ...], ...]] = []
     mirror: list[int] = []
+    # the balls' radii, where one is not within dps digits of its own coefficient (a
+    # residue that is tiny beside the others: its ball holds 0), become absolute errors
+    radii: list[float] = []
     with workdps(dps + 10):
         for pole in poles:
             z = mpmath.mpc(_mpf(pole.root.real.mid()), _mpf(pole.root.imag.mid()))
             rows = [tuple(mpmath.mpc(_mpf(c.real.mid()), _mpf(c.imag.mid())) for c in row)
                     for row in pole.coefficients]
+            radius = max((_loose_radius(c, dps) for row in pole.coefficients for c in row),
+                         default=0.0)
             index = len(nodes)
             nodes.append(z)
             coefficients.append(tuple(rows))
+            radii.append(radius)
             if pole.weight == 1:
                 mirror.append(index)
                 continue
             nodes.append(mpmath.conj(z))
             coefficients.append(tuple(tuple(mpmath.conj(c) for c in row) for row in rows))
+            radii.append(radius)
             mirror.extend([index + 1, index])
-    return PoleSum(n, tuple(nodes), tuple(coefficients), tuple(mirror), dps)
+    return PoleSum(n, tuple(nodes), tuple(coefficients), tuple(mirror), dps,
+                   tuple(radii) if any(radii) else None)
+
+
+def _loose_radius(value: Any, dps: int) -> float:
+    """The radius of a coefficient's ball (rounded up to float64) where it exceeds
+    10^-dps of the coefficient's own size, else 0 (the pole sum's relative precision
+    covers it)."""
+    size, radius = abs(value).mid(), abs(value).rad()
+    if radius <= size * 10.0 ** -dps:
+        return 0.0
+    return float(radius) * (1 + 2.0**-50)
 
 
 def certified_poles(scene: Scene) -> CertifiedPoles | None:

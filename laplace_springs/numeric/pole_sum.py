@@ -75,6 +75,11 @@ class PoleSum:
     coefficients: tuple  # [j][k] -> tuple of n mpc
     mirror: tuple[int, ...]  # index of each node's conjugate
     dps: int
+    #: per node, a bound on the absolute error of every one of its coefficients where the
+    #: data are balls whose radii are not small relative to the coefficient itself (a
+    #: residue of 1e-600 held as 0 ± 1e-59 beside residues of 1): None where every
+    #: coefficient is good to ``dps`` digits of itself
+    absolute: tuple[float, ...] | None = None
 
     @property
     def multiplicity(self) -> tuple[int, ...]:
@@ -177,18 +182,22 @@ def _data_error(form: PoleSum, block: Sequence[int], delta: np.ndarray,
 
     d_m = Σ C_jk ∂^k ω_{m−1}(z_j) combines coefficients C of the block's nodes; where the
     d_m cancel (a value that is exactly zero, say) their error is that of the C, not a
-    fraction of d: precision · Σ|C| · (m + 1)^K · max(1, diameter)^m, K the largest
-    power of t.
+    fraction of d: (precision · Σ|C| + Σ absolute) · (m + 1)^K · max(1, diameter)^m, K the
+    largest power of t, ``absolute`` the form's absolute errors of the C (each counted for
+    every power).
     """
     size = np.zeros(form.n)
     for j in block:
         for ck in form.coefficients[j]:
             size += np.array([abs(complex(c)) for c in ck])
+    size *= precision
+    if form.absolute is not None:
+        size += sum(form.absolute[j] * len(form.coefficients[j]) for j in block)
     diameter = max(1.0, 2 * float(np.max(np.abs(delta), initial=0.0)))
     powers = max(len(form.coefficients[j]) for j in block) - 1
     m = np.arange(delta.size)
     growth = (m + 1.0) ** powers * diameter ** m
-    return precision * growth[:, None] * size[None, :]
+    return growth[:, None] * size[None, :]
 
 
 def _size(block: Block, t: float) -> float:
@@ -410,5 +419,9 @@ def derivative_sum(form: PoleSum, order: int = 1) -> PoleSum:
                     rows.append(tuple(z * c + ((k + 1) * nxt[i] if nxt is not None else 0)
                                       for i, c in enumerate(ck)))
                 coefficients.append(tuple(rows))
-        form = PoleSum(form.n, form.nodes, tuple(coefficients), form.mirror, form.dps)
+        # an absolute error ε of every coefficient becomes at most (|z| + K)·ε, K the powers
+        absolute = None if form.absolute is None else tuple(
+            float(error * (abs(complex(z)) + len(powers)) * (1 + 1e-12))
+            for error, z, powers in zip(form.absolute, form.nodes, form.coefficients))
+        form = PoleSum(form.n, form.nodes, tuple(coefficients), form.mirror, form.dps, absolute)
     return form

@@ -169,3 +169,24 @@ def test_modal_block_spanning_decades_stays_finite():
     values, bounds = motion.values(times), motion.bound(times)
     reference = reference_motion_arb(scene, list(times), digits=20).astype(float)
     assert np.all(np.isfinite(values)) and np.all(np.abs(values - reference) <= bounds)
+
+
+@pytest.mark.parametrize("method", ["auto", "certified"])
+def test_a_residue_that_underflows_keeps_its_error_in_the_derivatives(method) -> None:
+    """x'' + 1e300 x' + x = 0, x(0) = 1: the fast pole's residue is −1e-600 (its ball holds
+    0), and its x' coefficient λ·residue = 1e-300 was taken as exactly 0 with a bound of
+    1e-314 at t = 0, where x'(0) = v0 = 0 and the engine gave −1e-300. The reference: the
+    roots of λ² + 1e300 λ + 1 at 700 digits, by hand."""
+    scene = Scene.from_matrices(M=[[1]], C=[["1e300"]], K=[[1]], x0=[1], v0=[0])
+    times = [0.0, 1e-300, 1.0]
+    values, bounds = solve(scene, method=method).evaluate(times, derivative=1, return_error=True)
+    with mpmath.workdps(700):
+        c = mpmath.mpf(10) ** 300
+        root = mpmath.sqrt(c * c - 4)
+        fast, slow = (-c - root) / 2, (-c + root) / 2
+        B = fast / (fast - slow)          # A + B = 1, A·fast + B·slow = 0
+        A = 1 - B
+        exact = [A * fast * mpmath.exp(fast * t) + B * slow * mpmath.exp(slow * t)
+                 for t in map(mpmath.mpf, times)]
+        errors = [abs(mpmath.mpf(float(v)) - e) for v, e in zip(values[0], exact)]
+    assert all(error <= bound for error, bound in zip(errors, bounds[0])), (errors, bounds)
