@@ -211,9 +211,17 @@ def _digits(ratio) -> int:
     return max(0, math.ceil(float(mpmath.log10(ratio))))
 
 
+def _cancelled(mag, top, work: int) -> int:
+    """Digits lost where terms of size ``mag`` sum to ``top``: a sum that cancelled to
+    exactly 0 lost every digit (a periodic response's one-period sums at a period of
+    1e-35: terms of 1e34 whose sum is of order 1)."""
+    return _digits(mag / top) if top else (work if mag else 0)
+
+
 def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
                scale=None) -> tuple[list, list, int]:
-    """x at ``ts`` good to ``digits`` relative to max |x| (or ``scale``): values, sizes, dps.
+    """x at ``ts`` good to ``digits`` relative to ``scale``, or without one to each time's
+    own max |x(t)|: values, sizes, dps.
 
     The working precision covers the digits the sum cancels (measured, then redone) and
     the digits of the largest phase |z t| (an absolute error in z·t is one in the phase).
@@ -227,11 +235,14 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
         source = data.at_precision(work + 10)
         with workdps(work):
             values, sizes = _mp_sum(source.poles, n, ts)
-            top = scale if scale else max((abs(v) for row in values for v in row), default=0)
             mag = max((s for row in sizes for s in row), default=mpmath.mpf(0))
-        # a sum that cancelled to exactly 0 lost every digit (a periodic response's
-        # one-period sums at a period of 1e-35: terms of 1e34 whose sum is of order 1)
-        lost = _digits(mag / top) if top else (work if mag else 0)
+            if scale:
+                lost = _cancelled(mag, scale, work)
+            else:  # each time against its own max |x(t)| (not the call's largest, which
+                # let x'(1e-300) of a system driven from rest ride on x'(1e-200) beside it)
+                lost = max((_cancelled(max(row[j] for row in sizes),
+                                       max(abs(row[j]) for row in values), work)
+                            for j in range(len(ts)) if n), default=0)
         cap = 4 * digits + 200 + _digits(mag / scale if scale else mag)
         if work - lost - extra >= digits + 5 or work > cap:
             return values, sizes, work
