@@ -56,7 +56,9 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
         damping), "modal" (the float64 eigen family: classical, chebyshev or the general
         2n x 2n eigenproblem, as the structure allows; "numeric" is its former name),
         "krylov" (double-double Taylor steps of large sparse networks), and the engines
-        "tiny" and "refined" where they are installed. Times whose bound misses the target
+        "tiny" and "refined" where they are installed; "ball" and "mp", the
+        arbitrary-precision escalations of "certified" and "exact", are served by those
+        (their ``dps=`` digits and recomputed times come from them). Times whose bound misses the target
         are still recomputed by the plan's escalation engines.
     target : float, optional
         The relative accuracy every evaluation aims at (default

@@ -179,3 +179,19 @@ def test_consistent_initial_data_at_massless_nodes_give_no_warning():
         warnings.simplefilter("error", ls.InitialDataWarning)
         sol = ls.solve(scene)
     assert "not kept" not in sol.reason
+
+
+@pytest.mark.parametrize(("asked", "host"), [("ball", "certified"), ("mp", "exact")])
+def test_the_arbitrary_precision_engines_asked_by_name_are_served_by_their_host(asked, host):
+    """They have no float64 values of their own: solve(method='mp') refused with every
+    other engine's refusal (found by the numeric attack); their host serves, digits too."""
+    scene = ls.load_scene("wall-pair")
+    sol = ls.solve(scene, method=asked)
+    assert sol.method == host and f"method='{asked}' was requested" in sol.reason
+    times = [0.5, 3.0]
+    reference = reference_motion(scene, times, dps=40)
+    values, bounds = sol.evaluate(times, return_error=True)
+    assert np.all(np.abs(values - reference.astype(float)) <= bounds)
+    digits = sol.evaluate(times, dps=25)
+    assert all(abs(digits[i, j] - reference[i, j]) < mpmath.mpf(10) ** -23
+               for i in range(2) for j in range(2))

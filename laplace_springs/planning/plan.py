@@ -28,9 +28,13 @@ __all__ = ["Plan", "plan", "METHODS", "FAMILIES"]
 FAMILIES: dict[str, tuple[str, ...]] = {
     "modal": ("classical", "chebyshev", "modal"),
     "numeric": ("classical", "chebyshev", "modal"),
+    # the arbitrary-precision engines have no float64 values of their own: asked for, their
+    # host serves (whose escalation and dps= they are)
+    "ball": ("certified",),
+    "mp": ("exact",),
 }
 #: What ``solve(method=...)`` accepts.
-METHODS: tuple[str, ...] = ("auto", *ENGINE_NAMES, *FAMILIES)
+METHODS: tuple[str, ...] = tuple(dict.fromkeys(("auto", *ENGINE_NAMES, *FAMILIES)))
 #: An escalation engine that is itself expected to miss the target is kept in the chain
 #: only when it costs at most this many times the primary (a 100-mass non-classical chain
 #: at t = 1e4: krylov would take 53 s to reach 3.8e-13 where the general modal engine gives
