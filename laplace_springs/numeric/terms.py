@@ -91,6 +91,10 @@ class _Builder:
         self.nodes: list = []
         self.coeffs: list[list[list]] = []
         self.mirror: list[int] = []
+        #: per node, the absolute error of its coefficients: each is a sum of terms' a, b
+        #: held to dps digits of themselves, and may cancel far below them (a cosh σt +
+        #: b sinh σt with a ≈ −b ≈ 5e15 gives (a + b)/2 ≈ 0.33 on e^{σt})
+        self.absolute: list[float] = []
         self.values: dict = {}
         self.caches: dict = {}
 
@@ -107,15 +111,18 @@ class _Builder:
                     self.nodes.append(v)
                     self.coeffs.append([])
                     self.mirror.append(-1)
+                    self.absolute.append(0.0)
             a, b = self.index[key], self.index[mirror_key]
             self.mirror[a], self.mirror[b] = b, a
         return self.index[key], self.index[mirror_key]
 
-    def add(self, j: int, power: int, row: int, c) -> None:
+    def add(self, j: int, power: int, row: int, c, size) -> None:
+        """Add ``c`` (formed from numbers of magnitude up to ``size``) to node j's power."""
         powers = self.coeffs[j]
         while len(powers) <= power:
             powers.append([mpmath.mpc(0)] * self.n)
         powers[power][row] += c
+        self.absolute[j] += float(size) * 10.0 ** (3 - self.dps)
 
     def term(self, row: int, term: Term) -> None:
         if term.kind == "root_sum":
@@ -126,25 +133,26 @@ class _Builder:
         if term.kind == "real":
             j, _ = self.node(("r", term.alpha), mpmath.mpc(alpha), ("r", term.alpha),
                              mpmath.mpc(alpha))
-            self.add(j, k, row, mpmath.mpc(a))
+            self.add(j, k, row, mpmath.mpc(a), abs(a))
             return
         beta, b = self.value(term.beta), self.value(term.b)
         if term.kind == "oscillatory":  # Re[(a - ib) e^{(α+iβ)t}], halves on z and z̄
             up, down = self.node(("o+", term.alpha, term.beta), mpmath.mpc(alpha, beta),
                                  ("o-", term.alpha, term.beta), mpmath.mpc(alpha, -beta))
-            self.add(up, k, row, mpmath.mpc(a, -b) / 2)
-            self.add(down, k, row, mpmath.mpc(a, b) / 2)
+            size = abs(a) + abs(b)
+            self.add(up, k, row, mpmath.mpc(a, -b) / 2, size)
+            self.add(down, k, row, mpmath.mpc(a, b) / 2, size)
             return
         for sign in (1, -1):  # a cosh σt + b sinh σt = Σ± (a ± b)/2 e^{±σt}
             key = ("h", sign, term.alpha, term.beta)
             j, _ = self.node(key, mpmath.mpc(alpha + sign * beta), key,
                              mpmath.mpc(alpha + sign * beta))
-            self.add(j, k, row, mpmath.mpc((a + sign * b) / 2))
+            self.add(j, k, row, mpmath.mpc((a + sign * b) / 2), abs(a) + abs(b))
 
     def build(self) -> PoleSum:
         return PoleSum(self.n, tuple(self.nodes),
                        tuple(tuple(tuple(p) for p in c) for c in self.coeffs),
-                       tuple(self.mirror), self.dps)
+                       tuple(self.mirror), self.dps, tuple(self.absolute))
 
 
 def numeric_terms(rows: Sequence[Sequence[Term]], dps: int = 40) -> NumericTerms:

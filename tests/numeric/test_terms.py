@@ -220,3 +220,17 @@ def test_evaluate_mp_large_phase():
     with mpmath.workdps(100):
         exact = mpmath.cos((mpmath.mpf(10**4) + mpmath.mpf(1) / 3) * 10**6)
         assert abs(x[0, 0] - exact) <= mpmath.mpf(10) ** -49
+
+
+def test_coefficients_formed_by_cancellation_keep_the_error_of_what_cancelled():
+    """K coupled by 1e-15: each mode's pole pair is ±1.7e-16 apart, and x1's coefficients
+    (a ± b)/2 with a ≈ −b ≈ 5e15 cancel to 0.33 and then to 1e-16 in the Newton form, whose
+    data error was taken relative to the result: x1(100) = 2.1e-36 was off by 2.1e-48 with a
+    bound of 4.8e-51 (found by the numeric attack). Reference: arb's matrix exponential."""
+    scene = ls.Scene.from_matrices(
+        M=[[4, 0], [0, 4]], C=[[16, 0], [0, 4]], K=[[16, "-1e-15"], ["-1e-15", 1]],
+        x0=["2857142857142857/20000000000000000", 0], v0=[-2, 1])
+    times = [1.0, 10.0, 100.0, 1000.0]
+    values, bounds = ls.solve(scene, method="exact").evaluate(times, return_error=True)
+    reference = reference_motion_arb(scene, times, digits=40).astype(float)
+    assert np.all(np.abs(values - reference) <= bounds)
