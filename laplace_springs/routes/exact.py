@@ -24,7 +24,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
-from ..exact.jumps import jump_residuals
+from ..exact.jumps import jump_residuals, laurent_at_infinity
 from ..exact.root_sums import Condition
 from ..exact.screening import has_exact_form
 from ..kernels.modulo import reduce_modulo
@@ -199,6 +199,23 @@ class ExactSolution(Solution):
         jump = self.initial_jump
         return columns, list(jump.x_plus if order == 0 else jump.v_plus)
 
+    def _piece_start(self, piece: Any, order: int) -> list[float] | None:
+        """x^(order) of a delayed piece just after it switches on (orders 0 and 1; from its
+        transform at λ = ∞, exact, rounded once), or None: its pole sum at t − τ = 0
+        cancels to that state only up to its rounding, which no relative bound covers
+        where the motion is 0 there (a scene at rest until a delayed input)."""
+        if order > 1 or piece.delay == 0 or not piece.numerators or piece.denominator is None:
+            return None
+        cache = self.__dict__.setdefault("_piece_starts", {})
+        key = (piece.delay, order)
+        if key not in cache:
+            expansions = [laurent_at_infinity(N, piece.denominator, 2) for N in piece.numerators]
+            impulsive = any(not q.is_zero for q, _ in expansions)
+            cache[key] = None if impulsive else [
+                float(mp_value(a[order], 20)) if a[order] != 0 else 0.0 for _, a in expansions]
+        found: list[float] | None = cache[key]
+        return found
+
     def _float(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
         values, bounds = self._float_sums(times, order)
         start = self._start(times, order)
@@ -217,6 +234,7 @@ class ExactSolution(Solution):
             on, hi, lo = self._shifted(times, piece.delay)
             if on.size:
                 part, bound = float_values(data, n, hi, lo)
+                _at_switch_on(part, bound, hi, lo, self._piece_start(piece, order))
                 values[:, on] += part
                 bounds[:, on] += bound
         periodic = self._periodic_numeric(order)
@@ -397,6 +415,19 @@ def _reduced_mp(times: Times, tau: sp.Expr, period: sp.Expr, dps: int) -> list[m
             out.append(v - P * mpmath.floor(v / P))
     with workdps(dps):
         return [+w for w in out]
+
+
+def _at_switch_on(part: np.ndarray, bound: np.ndarray, hi: np.ndarray, lo: np.ndarray,
+                  start: list[float] | None) -> None:
+    """Where the shifted time is exactly 0, a piece's values become its exact state just
+    after it switches on (rounded once), in place."""
+    if start is None:
+        return
+    columns = np.flatnonzero((hi == 0) & (lo == 0))
+    if columns.size:
+        exact = np.array(start)[:, None]
+        part[:, columns] = exact
+        bound[:, columns] = np.abs(exact) * _EPS
 
 
 def _reduced_float(times: Times, tau: sp.Expr, period: sp.Expr) -> tuple[np.ndarray, np.ndarray]:

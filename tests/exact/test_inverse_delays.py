@@ -11,6 +11,7 @@ oscillator summed over the square wave's half periods.
 from __future__ import annotations
 
 import functools
+import math
 import time
 
 import mpmath
@@ -341,3 +342,20 @@ def test_a_delay_of_unknown_sign_is_a_delay_where_it_is_nonnegative():
         ls.inverse_laplace("exp(a*s)/s", s, t, parameters=["a"])
     with pytest.raises(ls.InversionError, match="time advance whatever the sign"):
         ls.inverse_laplace("(exp(a*s) + exp(-a*s))/s", s, t, parameters={"a": "real"})
+
+
+def test_a_scene_at_rest_evaluated_exactly_when_an_input_switches_on():
+    """At rest until sin(2t) acts on x2 from t = 1/2 (and a step on x1 from t = 1): x and x'
+    are exactly 0 at t = 1/2 and x''(1/2) = (0, sin(1)/2) (by hand); the pole sums of the
+    delayed piece at t − τ = 0 cancel only to their rounding, which no relative bound covers
+    at a motion of 0 (evaluate([0.5]) raised LimitError; found by the numeric attack)."""
+    scene = ls.Scene.from_matrices(M=[[1, 0], [0, 2]], C=[["1/10", 0], [0, 0]],
+                                   K=[[3, -1], [-1, 2]], x0=[0, 0], v0=[0, 0],
+                                   forcing=["Heaviside(t - 1)", "sin(2*t)*Heaviside(t - 1/2)"])
+    sol = ls.solve(scene)
+    for when in (0.5, "1/2"):
+        for order in (0, 1):
+            values, bounds = sol.evaluate([when], derivative=order, return_error=True)
+            assert np.all(values == 0) and np.all(bounds < 1e-300)
+        values, bounds = sol.evaluate([when], derivative=2, return_error=True)
+        assert np.all(np.abs(values[:, 0] - [0.0, math.sin(1) / 2]) <= bounds[:, 0])
