@@ -149,15 +149,15 @@ def _dropped_initial_data(solution: Solution) -> list[str]:
     route that takes a massless node without a dashpot); on the others, whose massless
     nodes keep x0, the nonzero entries of v0 (nothing is computed)."""
     scene = solution.scene
-    if not massless_nodes(scene):
+    massless = massless_nodes(scene)
+    if not massless:
         return []
     names, notes = scene.names, []
     if solution.method not in ("exact", "mp"):  # x0 kept (a dashpot holds the node)
         return [f"v0[{names[i]}] = {scene.v0[i]} is not kept: {names[i]} has no mass, its "
-                "velocity follows from its equation" for i in massless_nodes(scene)
-                if scene.v0[i] != 0]
+                "velocity follows from its equation" for i in massless if scene.v0[i] != 0]
     jump = solution.initial_jump
-    for i in massless_nodes(scene):
+    for i in massless:
         if jump.position[i] != 0:
             notes.append(f"x0[{names[i]}] = {scene.x0[i]} is not kept: {names[i]} has no mass "
                          f"and its springs set {names[i]}(0⁺) = {jump.x_plus[i]} (a jump at t = 0)")

@@ -13,33 +13,22 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-import sympy as sp
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 import laplace_springs as ls
 from laplace_springs.numeric.chebyshev import chebyshev_motion, verified_interval
+from tests.test_attack import first_order
 
 
 def _q(value) -> fmpq:
-    value = sp.Rational(value)
-    return fmpq(int(value.p), int(value.q))
-
-
-def _qmat(rows) -> fmpq_mat:
-    return fmpq_mat([[_q(v) for v in row] for row in sp.Matrix(rows).tolist()])
+    value = Fraction(value)
+    return fmpq(value.numerator, value.denominator)
 
 
 def motion(scene: ls.Scene, times, order: int = 0) -> list[list[arb]]:
     """x^(order)(t) for each time: rows per coordinate, arb balls (radius < 1e-40 of the size)."""
     n = scene.n
-    Minv = _qmat(scene.M).inv()
-    A, B = -(Minv * _qmat(scene.K)), -(Minv * _qmat(scene.C))
-    Z = fmpq_mat(2 * n, 2 * n)
-    for i in range(n):
-        Z[i, n + i] = 1
-        for j in range(n):
-            Z[n + i, j], Z[n + i, n + j] = A[i, j], B[i, j]
-    start = fmpq_mat(2 * n, 1, [_q(v) for v in list(scene.x0) + list(scene.v0)])
+    Z, start, _ = first_order(scene)
     for _ in range(order):
         start = Z * start
     columns = []
