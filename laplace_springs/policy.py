@@ -25,13 +25,14 @@ a value does not depend on the other times of the call.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from .limits import limits
 
-__all__ = ["check_target", "reference_scale", "column_scales", "column_verdicts",
-           "escalate_columns"]
+__all__ = ["check_target", "reference_scale", "column_scales", "column_verdicts", "judge_columns",
+           "Verdict", "escalate_columns"]
 
 
 def check_target(target: float | None) -> float:
@@ -79,20 +80,63 @@ def column_verdicts(values: np.ndarray, bounds: np.ndarray, floor: float,
     >>> pending.tolist(), relative.tolist()
     ([False, True, True], [1e-16, 1e-12, inf])
     """
-    if values.shape[1] == 0:
-        return np.zeros(0, dtype=bool), np.zeros(0)
-    largest = np.abs(values).max(axis=0)   # NaN or inf where a value is not finite
+    verdict = judge_columns(np.abs(values), bounds, floor, target)
+    return verdict.pending, verdict.relative
+
+
+@dataclass(frozen=True, eq=False)
+class Verdict:
+    """The verdicts of :func:`judge_columns`.
+
+    Attributes
+    ----------
+    pending : numpy.ndarray
+        Per column, whether it escalates (bool).
+    relative : numpy.ndarray
+        Per column, its largest bound over its scale (inf where a value or bound is not
+        finite).
+    largest : float
+        max |value| over every entry (NaN or inf when one is not finite; 0 for none).
+    worst : float
+        An upper bound of ``relative.max()`` (the largest bound over S₀ where every
+        number is finite, else ``relative.max()``; 0 for no columns).
+    """
+
+    pending: np.ndarray
+    relative: np.ndarray
+    largest: float
+    worst: float
+
+
+def judge_columns(sizes: np.ndarray, bounds: np.ndarray, floor: float, target: float) -> Verdict:
+    """:func:`column_verdicts` from ``sizes`` = |values|, with the largest value and an upper
+    bound of the worst relative bound (a caller's range checks need nothing more).
+
+    Examples
+    --------
+    >>> verdict = judge_columns(np.array([[2.0, 1.0]]), np.array([[1e-16, 1e-17]]), 1.0, 1e-13)
+    >>> verdict.pending.tolist(), verdict.largest, verdict.worst
+    ([False, False], 2.0, 1e-16)
+    """
+    count = sizes.shape[1]
+    if count == 0:
+        return Verdict(np.zeros(0, dtype=bool), np.zeros(0), 0.0, 0.0)
+    largest = sizes.max(axis=0)   # NaN or inf where a value is not finite
     top = bounds.max(axis=0)
-    if floor > 0 and math.isfinite(float(largest.sum()) + float(top.sum())):
+    biggest, highest = float(largest.max()), float(top.max())
+    if floor > 0 and biggest < math.inf and highest < math.inf:  # NaN fails both
         scale = np.maximum(largest, floor)  # every number finite, every scale positive
-        return top > target * scale, top / scale
+        relative = top / scale
+        worst = highest / floor   # ≥ every relative bound
+        pending = np.zeros(count, dtype=bool) if worst <= target else top > target * scale
+        return Verdict(pending, relative, biggest, worst)
     bad = ~(np.isfinite(largest) & np.isfinite(top))
     scale = np.maximum(largest, floor)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         relative = np.where(top == 0, 0.0, top / np.where(scale > 0, scale, np.inf))
         pending = bad | (top > target * scale)
     relative[bad | np.isnan(relative)] = np.inf
-    return pending, relative
+    return Verdict(pending, relative, biggest, float(relative.max()))
 
 
 def escalate_columns(values: np.ndarray, bounds: np.ndarray, floor: float,

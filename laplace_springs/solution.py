@@ -46,12 +46,12 @@ from .output.latex import matrix_latex
 from .output.plots import plot_energy, plot_motion, plot_phase
 from .output.text import formula_lines, summary_lines
 from .planning.engines import Cost, Refusal
-from .planning.execute import BUILDERS, DIGIT_HOSTS, EvaluationReport, Evaluator, execute
+from .planning.execute import BUILDERS, DIGIT_HOSTS, EvaluationReport, Evaluator, execute_judged
 from .planning.facts import scene_facts
 from .planning.plan import Plan
 from .planning.plan import plan as plan_request
 from .planning.request import DEFAULT_REQUEST, Request, request_for
-from .policy import check_target, reference_scale
+from .policy import Verdict, check_target, reference_scale
 
 __all__ = ["Solution", "Verification", "DEFAULT_SAMPLES", "t"]
 
@@ -256,10 +256,11 @@ class Solution(ABC):
         else:
             # an engine's overflow shows as an infinite bound, never a NumPy warning
             with np.errstate(all="ignore"):
-                values, bounds, report = execute(plan, self._evaluator, T, self.scene.n, order,
-                                                 goal, self._floor(order), progress=progress)
-            sizes = np.abs(values)
-            _check_float_result(values, sizes, T, report, goal, order)
+                values, bounds, report, verdict = execute_judged(
+                    plan, self._evaluator, T, self.scene.n, order, goal, self._floor(order),
+                    progress=progress)
+                sizes = np.abs(values)
+            _check_float_result(verdict, sizes, T, report, goal, order)
             # the executor's own arrays: floored in place
             bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
             bounds += _TINY
@@ -583,13 +584,14 @@ def _check_size(count: int, n: int) -> None:
 _HUGE = float(np.finfo(float).max) / 4
 
 
-def _check_float_result(values: np.ndarray, sizes: np.ndarray, times: Times,
+def _check_float_result(verdict: Verdict, sizes: np.ndarray, times: Times,
                         report: EvaluationReport, target: float, order: int = 0) -> None:
     """Raise rather than return a value beyond float64 (``sizes`` = |values|), or one no
-    engine could bound within max(target, Limits.refusal_bound) of the scale."""
+    engine could bound within max(target, Limits.refusal_bound) of the scale (``verdict``:
+    the executor's on these values)."""
     worst = report.relative_bounds
     refusal = max(target, limits().refusal_bound)
-    if values.size and float(sizes.max()) <= _HUGE and float(worst.max()) <= refusal:
+    if sizes.size and verdict.largest <= _HUGE and verdict.worst <= refusal:
         return  # every value within range, every bound within the refusal bound
     name = "x" + "'" * order
     with np.errstate(invalid="ignore"):

@@ -134,6 +134,13 @@ class TinyData:
         return self._normalized
 
     @cached_property
+    def normalized_floats(self) -> tuple[list[float], list[float]]:
+        """The values of :meth:`normalized`'s entries rounded to float64 (in their order;
+        inf beyond float64's range)."""
+        A, B = self._normalized
+        return [_size(v) for v in A.values()], [_size(v) for v in B.values()]
+
+    @cached_property
     def _normalized(self) -> tuple[Entries, Entries]:
         n = self.n
         if all(i == j for i, j in self.M):
@@ -188,11 +195,12 @@ def _range_refusal(data: TinyData) -> str | None:
     # exact comparison is made only for the rare entries near the limits
     inner_low, inner_high = (1 + 2.0**-40) / most, most * (1 - 2.0**-40)
     A, B = data.normalized()
-    named = [("M⁻¹K", A.values()), ("M⁻¹C", B.values()), ("x0", data.x0_exact),
-             ("v0", data.v0_exact)]
-    for name, values in named:
-        for value in values:
-            if not inner_low < _size(value) < inner_high and value != 0 \
+    A_sizes, B_sizes = data.normalized_floats
+    named = [("M⁻¹K", A.values(), A_sizes), ("M⁻¹C", B.values(), B_sizes),
+             ("x0", data.x0_exact, data.x0.tolist()), ("v0", data.v0_exact, data.v0.tolist())]
+    for name, values, sizes in named:
+        for value, size in zip(values, sizes):
+            if not inner_low < abs(size) < inner_high and value != 0 \
                     and not _within(value, most):
                 return (f"an entry of {name} is about {_magnitude(value)}, beyond "
                         f"Limits.tiny_max_magnitude = {most:g} (or its reciprocal): the "
@@ -207,11 +215,11 @@ def _within(value: Any, most: float) -> bool:
 
 
 def _size(value: Any) -> float:
-    """|value| in float64 (inf beyond its range)."""
+    """value in float64 (±inf beyond its range)."""
     try:
-        return abs(float(value))
+        return float(value)
     except OverflowError:
-        return math.inf
+        return math.inf if value > 0 else -math.inf
 
 
 def _magnitude(value: Any) -> str:
@@ -338,7 +346,8 @@ class TinyMotion:
                 self._form = _Scalar(data)
             else:
                 A, B = data.normalized()
-                self._form = BlockMotion(self.n, A, B, data.x0, data.v0)
+                self._form = BlockMotion(self.n, A, B, data.x0, data.v0,
+                                         floats=data.normalized_floats)
         return self._form
 
     def evaluate(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:
@@ -353,13 +362,18 @@ class TinyMotion:
         lo = times.lo if times.given else None  # None: float times (no low parts)
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             values, bounds = self.form.evaluate(t, lo, order)
-            if not math.isfinite(float(values.sum()) + float(bounds.sum())):
+            # one pass: the sum is finite only where every value and bound is (an overflow
+            # of the sum of finite numbers only takes the careful path below)
+            if not math.isfinite(float(np.add(values, bounds).sum())):
                 bounds = np.where(np.isfinite(values) & np.isfinite(bounds), bounds, np.inf)
         if times.span[0] == 0:  # x^(order)(0) is the initial data: exactly, rounded once
-            start = t == 0
-            initial = self.data.initial(order)[:, None]
-            values[:, start] = initial
-            bounds[:, start] = U * np.abs(initial)
+            initial = self.data.initial(order)
+            zeros = np.flatnonzero(t == 0)
+            rounding = [U * abs(v) for v in initial.tolist()]
+            if zeros.size == 1:  # one column: a view
+                values[:, zeros[0]], bounds[:, zeros[0]] = initial, rounding
+            else:
+                values[:, zeros], bounds[:, zeros] = initial[:, None], np.array(rounding)[:, None]
         return values, bounds
 
     def largest_bound(self, t: np.ndarray) -> float:

@@ -94,7 +94,13 @@ _LINALG = getattr(np.linalg, "_umath_linalg", None)
 
 def _norm(a: np.ndarray) -> float:
     """The Frobenius norm (an upper bound of the 2-norm)."""
-    return math.sqrt(float(np.vdot(a, a).real))
+    return math.sqrt(np.vdot(a, a).real)
+
+
+def _row_norms(a: np.ndarray) -> np.ndarray:
+    """The 2-norms of the rows (``hypot`` accumulated: no overflow of the squares)."""
+    rows: np.ndarray = np.hypot.reduce(np.abs(a), axis=1)
+    return rows
 
 
 def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -149,18 +155,20 @@ def _eye(size: int) -> np.ndarray:
     return _EYES[size]
 
 
-def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any]
+def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any],
+                 floats: tuple[list[float], list[float]] | None = None
                  ) -> tuple[float, np.ndarray, np.ndarray | None, float]:
     """(σ, Z, Z_lo, ‖Z‖_F): σ a power of two near the frequency scale and Z = [[0, σI],
     [−A/σ, −B]] as hi + lo, hi the entries correctly rounded and lo their rounded
-    remainders (Z_lo None when every entry is a float64 number). Scaling by σ (a power of
+    remainders (Z_lo None when every entry is a float64 number); ``floats``: A's and B's
+    values in float64 where the caller has them. Scaling by σ (a power of
     two) is exact while the scaled entries stay in float64's normal range, as they do for
     entries within the default Limits.tiny_max_magnitude^{±1} = 1e±100; below it the loss
     is under 2⁻¹⁰⁷⁴, far below u·‖Z‖."""
     size = 2 * n
     places = [(n + i, j) for i, j in A] + [(n + i, n + j) for i, j in B]
     exact = [*A.values(), *B.values()]
-    high = [float(value) for value in exact]
+    high = [float(value) for value in exact] if floats is None else [*floats[0], *floats[1]]
     stiff = len(A)
     largest = max(map(abs, high[:stiff]), default=0.0)
     damping = max(map(abs, high[stiff:]), default=0.0)
@@ -213,6 +221,8 @@ class BlockMotion:
         The nonzero entries of M⁻¹K and M⁻¹C, exact (python-flint fmpq).
     x0, v0 : numpy.ndarray
         The initial data rounded to float64.
+    floats : tuple of two lists, optional
+        A's and B's values rounded to float64, in their order (read from them otherwise).
 
     Attributes
     ----------
@@ -225,22 +235,28 @@ class BlockMotion:
     """
 
     def __init__(self, n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any],
-                 x0: np.ndarray, v0: np.ndarray) -> None:
+                 x0: np.ndarray, v0: np.ndarray, *,
+                 floats: tuple[list[float], list[float]] | None = None) -> None:
         self.failure: str | None = None
         self.n = n
-        self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B)
-        self.y0 = np.concatenate([x0, v0 / self.sigma])
+        self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B, floats)
+        start = [*x0.tolist(), *[v / self.sigma for v in v0.tolist()]]
+        self.y0, self.y0_norm = np.array(start), math.hypot(*start)
         w, V = _eig(self.Z)
         self.poles = w
         sizes = np.abs(w)
-        self.radius = float(sizes.max())  # NaN propagates
-        if not math.isfinite(self.radius):
+        listed: list[float] = sizes.tolist()
+        #: ‖diag(w)‖_F (NaN or inf when an eigenvalue is not finite)
+        self.w_norm = math.hypot(*listed)
+        if not math.isfinite(self.w_norm):
+            self.radius = float(sizes.max())  # NaN propagates
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
+        self.radius = max(listed)
         inverse = _inv(V)
         Y, largest = inverse if inverse is not None else (None, math.inf)
         X = self._layout(w, V, Y, largest)
-        self._finish(w, sizes, X, Y if X is V else None)
+        self._finish(w, X, Y if X is V else None)
 
     # -- the decomposition -------------------------------------------------------------
     def _layout(self, w: np.ndarray, V: np.ndarray, Y: np.ndarray | None,
@@ -261,7 +277,7 @@ class BlockMotion:
         if Y is None or math.sqrt(size) * largest > _CLUSTER_CONDITION:
             with np.errstate(over="ignore"):  # an infinite condition number is one
                 condition = (np.full(size, np.inf) if Y is None
-                             else np.sqrt((Y.real ** 2 + Y.imag ** 2).sum(axis=1)))
+                             else _row_norms(Y))
             pairs = self._pairs(w, condition)
         X = V.copy() if pairs else V
         columns: list[int] = []
@@ -394,14 +410,14 @@ class BlockMotion:
         """P·B (B diagonal: a scaling of P's columns)."""
         return P * self.poles if self.B is None else P @ self.B
 
-    def _finish(self, w: np.ndarray, sizes: np.ndarray, X: np.ndarray,
+    def _finish(self, w: np.ndarray, X: np.ndarray,
                 Y: np.ndarray | None) -> None:
         """Coefficients, residuals and the constants of the bound. The rounding of each
         product is bounded through norms (‖|A||B|‖_F ≤ ‖A‖_F‖B‖_F)."""
         size = X.shape[0]
         self.X = X
         self.B, moved = self._block_matrix(w)
-        B_norm = math.sqrt(float(sizes @ sizes)) if self.B is None else _norm(self.B)
+        B_norm = self.w_norm if self.B is None else _norm(self.B)
         self.B_rounding = U * B_norm
         if Y is None:
             inverse = _inv(X)
@@ -436,7 +452,7 @@ class BlockMotion:
         phi = (F_norm + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
         c_norm = math.sqrt(sum(z.real * z.real + z.imag * z.imag for z in coefficients))
-        y0_norm = _norm(self.y0)
+        y0_norm = self.y0_norm
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
         r0 = _norm(X_long @ c.astype(np.clongdouble) - self.y0)
         r0_error = (2 * size + 4) * _U_LONG * (X_norm * c_norm + y0_norm) + U * (y0_norm + r0)
@@ -458,7 +474,7 @@ class BlockMotion:
             n, X, sigma = self.n, self.X, self.sigma
             L = X[:n] if order == 0 else sigma * X[n:] if order == 1 \
                 else self._times_B(sigma * X[n:])
-            F_rows = sigma * np.sqrt((np.abs(X[n:]) ** 2).sum(axis=1)) if order == 2 else None
+            F_rows = sigma * _row_norms(X[n:]) if order == 2 else None
             self._orders[order] = _Order(L, self, F_rows)
         return self._orders[order]
 
@@ -619,7 +635,7 @@ class _Order:
         g = L[:, motion.columns] * (motion.weights * c[motion.columns])  # (n, blocks)
         self.g = g
         self.single_size = np.abs(g).sum(axis=1)
-        self.rows = np.sqrt((L.real ** 2 + L.imag ** 2).sum(axis=1))
+        self.rows = _row_norms(L)
         self.F_rows = F_rows
         self.doubles = []
         #: Σ of every weight's size per row (the absolute floor of the bound)
@@ -634,7 +650,7 @@ class _Order:
             Nc = block.N @ coefficient
             self.doubles.append((block, block.weight * (rows @ coefficient)[:, None],
                                  block.weight * (rows @ Nc)[:, None],
-                                 (np.sqrt((np.abs(rows) ** 2).sum(axis=1)), _norm(coefficient),
+                                 (_row_norms(rows), _norm(coefficient),
                                   _norm(Nc))))
         doubles = self.doubles
         zero = np.zeros(L.shape[0])

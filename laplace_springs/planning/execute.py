@@ -12,6 +12,7 @@ to take long, and a Ctrl-C leaves every cache of the solution whole.
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,12 +22,12 @@ import numpy as np
 
 from ..limits import limits
 from ..numeric.times import Times
-from ..policy import column_verdicts
+from ..policy import Verdict, column_verdicts, judge_columns
 from .engines import Refusal
 from .plan import Plan
 from .progress import Progress
 
-__all__ = ["EvaluationReport", "Evaluator", "execute", "relative_bounds", "BUILDERS",
+__all__ = ["EvaluationReport", "Evaluator", "execute", "execute_judged", "relative_bounds", "BUILDERS",
            "DIGIT_HOSTS", "register_engine"]
 
 Evaluator = Callable[[Times, int, float], tuple[np.ndarray, np.ndarray]]
@@ -88,6 +89,8 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
             progress: bool | None = None) -> tuple[np.ndarray, np.ndarray, EvaluationReport]:
     """Run ``plan`` at ``times``: float64 values, bounds (shape (n, len(times))) and a report.
 
+    :func:`execute_judged` gives the final verdict on the columns as well.
+
     Parameters
     ----------
     plan : Plan
@@ -107,6 +110,17 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
         Show a progress bar on stderr (default: when the plan expects more than
         ``Limits.progress_after_seconds``).
     """
+    values, bounds, report, _ = execute_judged(plan, build, times, n, order, target, floor,
+                                               progress)
+    return values, bounds, report
+
+
+def execute_judged(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Times, n: int,
+                   order: int, target: float, floor: float, progress: bool | None = None
+                   ) -> tuple[np.ndarray, np.ndarray, EvaluationReport, Verdict]:
+    """:func:`execute`, and the :class:`~laplace_springs.policy.Verdict` on the values and
+    bounds it returns (their largest value and worst relative bound: a caller's range checks
+    need no further pass over them)."""
     count = len(times)
     refusals: list[Refusal] = []
     show = plan.seconds > limits().progress_after_seconds if progress is None else progress
@@ -144,7 +158,7 @@ def execute(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Time
         bar.close()
     state = state or _Kept.empty(n, count)
     report = EvaluationReport(plan, state.engines(), state.relative, tuple(refusals))
-    return state.values, state.bounds, report
+    return state.values, state.bounds, report, state.verdict
 
 
 @dataclass(eq=False)
@@ -157,23 +171,29 @@ class _Kept:
     values: np.ndarray
     bounds: np.ndarray
     source: np.ndarray | str
-    pending: np.ndarray
-    relative: np.ndarray
+    verdict: Verdict
+
+    @property
+    def pending(self) -> np.ndarray:
+        return self.verdict.pending
+
+    @property
+    def relative(self) -> np.ndarray:
+        return self.verdict.relative
 
     @classmethod
     def empty(cls, n: int, count: int) -> _Kept:
         return cls(np.full((n, count), np.nan), np.full((n, count), np.inf),
-                   np.full(count, "", dtype=object), np.ones(count, dtype=bool),
-                   np.full(count, np.inf))
+                   np.full(count, "", dtype=object),
+                   Verdict(np.ones(count, dtype=bool), np.full(count, np.inf), math.nan,
+                           math.inf if count else 0.0))
 
     @classmethod
     def taking(cls, result: tuple[np.ndarray, np.ndarray], name: str, floor: float,
                target: float) -> _Kept:
         """Every time from one engine's call."""
         values, bounds = (np.array(a, dtype=float) for a in result)   # copies: ours to change
-        kept = cls(values, bounds, name, np.zeros(0, dtype=bool), np.zeros(0))
-        kept.judge(floor, target)
-        return kept
+        return cls(values, bounds, name, judge_columns(np.abs(values), bounds, floor, target))
 
     def engines(self) -> tuple[str, ...]:
         """The engine of each time."""
@@ -182,7 +202,7 @@ class _Kept:
         return tuple(self.source)
 
     def judge(self, floor: float, target: float) -> None:
-        self.pending, self.relative = column_verdicts(self.values, self.bounds, floor, target)
+        self.verdict = judge_columns(np.abs(self.values), self.bounds, floor, target)
 
     def keep(self, result: tuple[np.ndarray, np.ndarray], chunk: np.ndarray, name: str) -> None:
         """Per time, keep the new values where their largest bound is smaller."""

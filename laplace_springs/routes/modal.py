@@ -81,8 +81,8 @@ class ModalSolution(Solution):
         data = getattr(self.motion, "data", None)  # the symmetric routes' float x0, v0 (no
         if data is None:                           # massless nodes): no SymPy walk of x0, v0
             return super()._base_floor
-        return reference_scale(float(np.max(np.abs(data.x0), initial=0.0)),
-                               float(np.max(np.abs(data.v0), initial=0.0)), self._spectral_radius)
+        return reference_scale(max(map(abs, data.x0.tolist()), default=0.0),
+                               max(map(abs, data.v0.tolist()), default=0.0), self._spectral_radius)
 
     @cached_property
     def _exact_form(self) -> ExactSolution | None:

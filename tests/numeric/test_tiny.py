@@ -293,6 +293,22 @@ def test_initial_data_at_t0_exactly() -> None:
                                      float(-(Fraction(-1, 10) - Fraction(3, 10)) / 2)]
 
 
+@pytest.mark.parametrize("times", [[0.0, 1.0, 2.0], [1.0, 0.0, 2.0], [0.0, 3.0, 0.0, 1.5],
+                                   [2.0, 0.0], [0.0]])
+def test_initial_data_wherever_t0_stands(times: list[float]) -> None:
+    """Every t = 0 column (one or several, first or not) is the scene's initial data with a
+    bound of its rounding; the other columns are the motion (no column carries another's)."""
+    scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, 0], [0, 0]], K=[[2, -1], [-1, 1]],
+                                x0=["0.1", "-0.3"], v0=["1/3", "0"])
+    values, bounds = tiny_motion(scene).evaluate(as_times(times), 1)
+    for j, t in enumerate(times):
+        if t == 0:
+            assert values[:, j].tolist() == [1 / 3, 0.0]
+            assert bounds[:, j].tolist() == [2.0**-53 / 3, 0.0]
+        else:
+            assert abs(values[0, j] - 1 / 3) > 1e-3 and bounds[0, j] > 0
+
+
 def test_poles_are_the_roots_of_the_characteristic_polynomial() -> None:
     scene = SEVERAL["seed example 2"][0]
     lam = sp.Symbol("lam")
