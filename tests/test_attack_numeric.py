@@ -191,6 +191,48 @@ def test_a_small_rayleigh_scene_at_a_late_time_escalates_past_chebyshev():
     assert_bounded(values, bounds, motion(scene, [1e6], 2))
 
 
+def _free_free_four() -> ls.Scene:
+    return ls.Scene.from_components(
+        masses={"a": 1, "b": 2, "c": 1, "d": 3},
+        springs={"k1": ("a", "b", 2), "k2": ("b", "c", 1), "k3": ("c", "d", 3)},
+        x0=[1, 0, 0, 0], v0=[0, 0, 0, "1/2"])
+
+
+def test_a_late_time_escalates_by_the_costs_at_its_own_time():
+    """method='modal' on a free-free chain at t = 1e6: the escalation order judged for the
+    default request (t up to 100) tried the Chebyshev engine (quoted 12 s at t = 1e6, 13 s
+    measured) before the certified engine (0.012 s). A time beyond the default horizon now
+    follows the order of its own dyadic band: certified first, and the same value whether
+    the time is evaluated alone or with early times."""
+    scene = _free_free_four()
+    plan = ls.solve(scene, method="modal").plan([1e6])
+    late = plan.chain_for(1e6)
+    assert late.index("certified") < late.index("chebyshev"), late
+    assert plan.chain_for(50.0) == plan.chain
+    assert sorted(late) == sorted(plan.chain)  # the same engines, reordered
+    sol = ls.solve(scene, method="modal")
+    values, bounds, report = sol.evaluate([1e6], return_error=True, return_report=True)
+    assert report.engines == ("certified",)
+    assert_bounded(values, bounds, motion(scene, [1e6]))
+    together = ls.solve(scene, method="modal").evaluate([0.5, 1e6, 3.0], return_error=True)
+    assert np.array_equal(together[0][:, 1], values[:, 0])
+    assert np.array_equal(together[1][:, 1], bounds[:, 0])
+
+
+def test_times_of_several_bands_each_follow_their_own_chain():
+    """Times on both sides of the default horizon and in several bands: each keeps the value
+    it has alone (a function of the time only), every one within its bound."""
+    scene = _free_free_four()
+    times = [2e6, 1.0, 150.0, 7e5, 99.0, 3e4]
+    sol = ls.solve(scene, method="modal")
+    values, bounds = sol.evaluate(times, return_error=True)
+    assert_bounded(values, bounds, motion(scene, times))
+    for j, t in enumerate(times):
+        alone = ls.solve(scene, method="modal").evaluate([t], return_error=True)
+        assert np.array_equal(alone[0][:, 0], values[:, j]), t
+        assert np.array_equal(alone[1][:, 0], bounds[:, j]), t
+
+
 # ----------------------------------------------------------------------------- exact (mp)
 
 

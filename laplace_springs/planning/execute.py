@@ -122,43 +122,81 @@ def execute_judged(plan: Plan, build: Callable[[str], Evaluator | Refusal], time
     bounds it returns (their largest value and worst relative bound: a caller's range checks
     need no further pass over them)."""
     count = len(times)
-    refusals: list[Refusal] = []
+    refusals: dict[str, Refusal] = {}
     show = plan.seconds > limits().progress_after_seconds if progress is None else progress
     bar = Progress(count * max(len(plan.chain), 1), enabled=bool(show), unit="evaluations")
-    state: _Kept | None = None
+    run = _Run(plan, build, times, n, order, target, floor, bar, refusals)
     try:
-        for name in plan.chain:
-            horizon = plan.horizons.get(name, np.inf)
-            if state is None and count > 0 and plan.request.t_max <= horizon \
-                    and count * n <= _chunk_values():
-                evaluator = build(name)  # the first engine takes every time in one call
-                if isinstance(evaluator, Refusal):
-                    refusals.append(evaluator)
-                    continue
-                bar.update(name, f"{count} times")
-                state = _Kept.taking(evaluator(times, order, target), name, floor, target)
-                bar.advance(count)
-            else:
-                state = state or _Kept.empty(n, count)
-                columns = np.flatnonzero(state.pending & (times.hi <= horizon))
-                if columns.size == 0:
-                    continue
-                evaluator = build(name)
-                if isinstance(evaluator, Refusal):
-                    refusals.append(evaluator)
-                    continue
-                for chunk in _chunks(columns, n):
-                    bar.update(name, f"{chunk.size} times")
-                    state.keep(evaluator(times.subset(chunk), order, target), chunk, name)
-                    bar.advance(chunk.size)
-                state.judge(floor, target)
-            if not state.pending.any():
-                break
+        groups = plan.groups(times.hi) if count else [(None, plan.chain)]
+        if len(groups) == 1:
+            state = run.chain(plan.chain, None, None)
+        else:  # the primary for every time, then each band of times its own escalation
+            state = run.chain(plan.chain[:1], None, None)
+            for mask, chain in groups:
+                state = run.chain(chain[1:], mask, state)
     finally:
         bar.close()
     state = state or _Kept.empty(n, count)
-    report = EvaluationReport(plan, state.engines(), state.relative, tuple(refusals))
+    report = EvaluationReport(plan, state.engines(), state.relative, tuple(refusals.values()))
     return state.values, state.bounds, report, state.verdict
+
+
+@dataclass(eq=False)
+class _Run:
+    """One execution: the engines of a chain in turn on the times still pending."""
+
+    plan: Plan
+    build: Callable[[str], Evaluator | Refusal]
+    times: Times
+    n: int
+    order: int
+    target: float
+    floor: float
+    bar: Progress
+    refusals: dict[str, Refusal]
+
+    def chain(self, chain: tuple[str, ...], mask: np.ndarray | None,
+              state: _Kept | None) -> _Kept | None:
+        """Run ``chain`` on the pending times of ``mask`` (None: every time); the first
+        engine to run on a fresh state takes every time in one call when it can."""
+        times, count, n = self.times, len(self.times), self.n
+        for name in chain:
+            horizon = self.plan.horizons.get(name, np.inf)
+            if state is None and mask is None and count > 0 \
+                    and self.plan.request.t_max <= horizon and count * n <= _chunk_values():
+                evaluator = self._evaluator(name)  # every time in one call
+                if evaluator is None:
+                    continue
+                self.bar.update(name, f"{count} times")
+                state = _Kept.taking(evaluator(times, self.order, self.target), name,
+                                     self.floor, self.target)
+                self.bar.advance(count)
+            else:
+                state = state or _Kept.empty(n, count)
+                wanted = state.pending & (times.hi <= horizon)
+                columns = np.flatnonzero(wanted if mask is None else wanted & mask)
+                if columns.size == 0:
+                    continue
+                evaluator = self._evaluator(name)
+                if evaluator is None:
+                    continue
+                for chunk in _chunks(columns, n):
+                    self.bar.update(name, f"{chunk.size} times")
+                    state.keep(evaluator(times.subset(chunk), self.order, self.target), chunk,
+                               name)
+                    self.bar.advance(chunk.size)
+                state.judge(self.floor, self.target)
+            if not (state.pending if mask is None else state.pending & mask).any():
+                break
+        return state
+
+    def _evaluator(self, name: str) -> Evaluator | None:
+        """The engine's evaluator, or None when it refuses (kept once per engine)."""
+        evaluator = self.build(name)
+        if isinstance(evaluator, Refusal):
+            self.refusals.setdefault(name, evaluator)
+            return None
+        return evaluator
 
 
 @dataclass(eq=False)

@@ -4,16 +4,20 @@
 engines that serve the times beyond the primary's horizon, and the escalation chain for
 the times whose bound misses the target: the engines that reach a tighter bound and are
 expected to meet the target, cheapest first (by their costs for the default request, so that
-a time's engine does not depend on the other times of a call), then the others. ``solve`` and ``Solution.evaluate`` only
+a time's engine does not depend on the other times of a call), then the others. A time beyond
+the default request's last time escalates through the same engines in the order of their
+costs for its own dyadic band (:meth:`Plan.chain_for`): a function of that time alone. ``solve`` and ``Solution.evaluate`` only
 execute plans (:mod:`laplace_springs.planning.execute`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field, replace
 from typing import Any
+
+import numpy as np
 
 from ..limits import limits
 from .engines import ENGINE_NAMES, ENGINES, Cost, Engine, Refusal, engine
@@ -73,6 +77,42 @@ class Plan:
     costs: dict[str, Cost] = field(default_factory=dict)
     refusals: tuple[Refusal, ...] = ()
     reason: str = ""
+    #: band exponent e -> the chain for times in (2^(e-1), 2^e] beyond the default horizon
+    #: (None: every time follows ``chain``)
+    retimed: Callable[[int], tuple[str, ...]] | None = field(default=None, compare=False,
+                                                               repr=False)
+
+    def chain_for(self, t: float) -> tuple[str, ...]:
+        """The chain that serves time ``t``: :attr:`chain` up to the default request's last
+        time; beyond it the same engines, with the escalation ordered by their costs for a
+        request up to t's dyadic band (so an engine whose cost grows with t, such as a
+        stepping one, moves behind one that does not). A function of t alone.
+
+        >>> from laplace_springs.planning.facts import Quote, SceneFacts
+        >>> facts = SceneFacts(n=4, symbolic=False, forced=False, rational=True,
+        ...                    first_order=True, classical=True, rayleigh=False, krylov=True,
+        ...                    nnz=16, diagonal_mass=True, stiffness_bound=4.0, pole_bound=2.0)
+        >>> made = plan(facts, Request(count=1, t_max=1e6), method="modal")
+        >>> made.chain_for(1.0) == made.chain
+        True
+        """
+        if self.retimed is None or not t > DEFAULT_REQUEST.t_max:
+            return self.chain
+        return self.retimed(min(math.frexp(t)[1], 1023))
+
+    def groups(self, t: np.ndarray) -> list[tuple[np.ndarray | None, tuple[str, ...]]]:
+        """The times grouped by :meth:`chain_for`: (mask of the group's columns, its chain);
+        one group ``(None, chain)`` when every time follows :attr:`chain`."""
+        late = t > DEFAULT_REQUEST.t_max
+        if self.retimed is None or not late.any():
+            return [(None, self.chain)]
+        bands = np.where(late, np.minimum(np.frexp(t)[1], 1023), 0)
+        chains: dict[tuple[str, ...], list[int]] = {self.chain: [0]}
+        for band in np.unique(bands[late]).tolist():
+            chains.setdefault(self.retimed(band), []).append(band)
+        if len(chains) == 1:
+            return [(None, self.chain)]
+        return [(np.isin(bands, members), chain) for chain, members in chains.items()]
 
     @property
     def primary(self) -> str | None:
@@ -90,6 +130,10 @@ class Plan:
             cost, horizon = self.costs[name], self.horizons.get(name, math.inf)
             until = "" if math.isinf(horizon) else f", times up to {horizon:.3g}"
             lines.append(f"  {name:10s} ~{cost.seconds:.2g} s{until}: {engine(name).summary}")
+        last = self.chain_for(self.request.t_max) if self.chain else self.chain
+        if last != self.chain:
+            lines.append(f"  times near t = {self.request.t_max:g} escalate in the order of "
+                         f"their own band: {', '.join(last)}")
         lines += [f"  declined   {refusal}" for refusal in self.refusals]
         return "\n".join(lines)
 
@@ -173,9 +217,37 @@ def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str
     # request): a time's engine then never depends on the other times of a call
     order = {e.name: (costs[e.name] if request == DEFAULT_REQUEST
                       else _cost(e, facts, DEFAULT_REQUEST, built)).seconds for e in serving}
-    chain = _chain(serving, costs, horizons, facts, request, wanted, order)
+    chain, head = _chain(serving, costs, horizons, facts, request, wanted, order)
+    retimed = _Retimed(facts, built, chain, head) if len(chain) > head + 1 else None
     return Plan(request, method, chain, horizons, costs, tuple(refusals),
-                _reason(chain, costs, method, facts, request, refusals))
+                _reason(chain, costs, method, facts, request, refusals), retimed)
+
+
+class _Retimed:
+    """The chain for the times of one dyadic band beyond the default request's horizon: the
+    same primary and engines beyond its horizon, the same escalation engines, ordered by
+    their costs and expectations for the default request stretched to the band's last time
+    (memoised per band)."""
+
+    def __init__(self, facts: SceneFacts, built: frozenset[str], chain: tuple[str, ...],
+                 head: int) -> None:
+        self.facts, self.built, self.chain, self.head = facts, built, chain, head
+        self.found: dict[int, tuple[str, ...]] = {}
+
+    def __call__(self, band: int) -> tuple[str, ...]:
+        found = self.found.get(band)
+        if found is None:
+            found = self.found[band] = self._order(band)
+        return found
+
+    def _order(self, band: int) -> tuple[str, ...]:
+        request = replace(DEFAULT_REQUEST, t_max=math.ldexp(1.0, band))
+        primary = engine(self.chain[0])
+        tail = [engine(name) for name in self.chain[self.head:]]
+        key = {e.name: (e.precision >= primary.precision,
+                        e.expectation(self.facts, request) is not None,
+                        _cost(e, self.facts, request, self.built).seconds) for e in tail}
+        return self.chain[:self.head] + tuple(sorted(self.chain[self.head:], key=key.__getitem__))
 
 
 def _cost(entry: Engine, facts: SceneFacts, request: Request, built: frozenset[str]) -> Cost:
@@ -185,9 +257,10 @@ def _cost(entry: Engine, facts: SceneFacts, request: Request, built: frozenset[s
 
 def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, float],
            facts: SceneFacts, request: Request, wanted: tuple[str, ...] | None,
-           order: dict[str, float]) -> tuple[str, ...]:
+           order: dict[str, float]) -> tuple[tuple[str, ...], int]:
     """Primary, then cover of the times beyond its horizon, then escalation (ordered by
-    ``order``, the engines' costs for the default request)."""
+    ``order``, the engines' costs for the default request); and the number of engines
+    before the escalation."""
     def key(e: Engine) -> float:
         return costs[e.name].seconds
 
@@ -196,7 +269,7 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
                  and (wanted is None or e.name in wanted)]
     if not primaries:
         if wanted is not None:
-            return ()
+            return (), 0
         primaries = [e for e in serving if e.tier == min((x.tier for x in serving), default=0)]
     covering = [e for e in primaries if horizons[e.name] >= request.t_max]
     confident = [e for e in covering or primaries if wanted is not None
@@ -205,7 +278,7 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
     ordinary = [e for e in confident if e.tier == 0]
     primary = min(ordinary or confident or covering or primaries, key=key, default=None)
     if primary is None:
-        return ()
+        return (), 0
     rest = [e for e in serving if e is not primary]
     beyond = sorted((e for e in rest if e.tier == primary.tier
                      and horizons[primary.name] < request.t_max < math.inf
@@ -222,7 +295,7 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
     escalation = sorted((e for e in rest if e not in beyond
                          and (not misses(e) or order[e.name] <= budget)),
                         key=lambda e: (e.precision >= primary.precision, misses(e), order[e.name]))
-    return tuple(e.name for e in [primary, *beyond, *escalation])
+    return tuple(e.name for e in [primary, *beyond, *escalation]), 1 + len(beyond)
 
 
 def _reason(chain: tuple[str, ...], costs: dict[str, Cost], method: str, facts: SceneFacts,
