@@ -127,7 +127,7 @@ def execute_judged(plan: Plan, build: Callable[[str], Evaluator | Refusal], time
     bar = Progress(count * max(len(plan.chain), 1), enabled=bool(show), unit="evaluations")
     run = _Run(plan, build, times, n, order, target, floor, bar, refusals)
     try:
-        groups = plan.groups(times.hi) if count else [(None, plan.chain)]
+        groups = plan.groups(times.hi, times.span[1]) if count else [(None, plan.chain)]
         if len(groups) == 1:
             state = run.chain(plan.chain, None, None)
         else:  # the primary for every time, then each band of times its own escalation

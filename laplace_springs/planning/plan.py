@@ -100,12 +100,13 @@ class Plan:
             return self.chain
         return self.retimed(min(math.frexp(t)[1], 1023))
 
-    def groups(self, t: np.ndarray) -> list[tuple[np.ndarray | None, tuple[str, ...]]]:
-        """The times grouped by :meth:`chain_for`: (mask of the group's columns, its chain);
-        one group ``(None, chain)`` when every time follows :attr:`chain`."""
-        late = t > DEFAULT_REQUEST.t_max
-        if self.retimed is None or not late.any():
+    def groups(self, t: np.ndarray, last: float) -> list[tuple[np.ndarray | None, tuple[str, ...]]]:
+        """The times ``t`` (the largest ``last``) grouped by :meth:`chain_for`: (mask of the
+        group's columns, its chain); one group ``(None, chain)`` when every time follows
+        :attr:`chain`."""
+        if self.retimed is None or not last > DEFAULT_REQUEST.t_max:
             return [(None, self.chain)]
+        late = t > DEFAULT_REQUEST.t_max
         bands = np.where(late, np.minimum(np.frexp(t)[1], 1023), 0)
         chains: dict[tuple[str, ...], list[int]] = {self.chain: [0]}
         for band in np.unique(bands[late]).tolist():
