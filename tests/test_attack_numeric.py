@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import mpmath
 import numpy as np
 import pytest
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
@@ -231,6 +232,27 @@ def test_times_of_several_bands_each_follow_their_own_chain():
         alone = ls.solve(scene, method="modal").evaluate([t], return_error=True)
         assert np.array_equal(alone[0][:, 0], values[:, j]), t
         assert np.array_equal(alone[1][:, 0], bounds[:, j]), t
+
+
+@pytest.mark.parametrize("method", ["modal", "classical", "certified", "auto"])
+def test_a_damping_of_1e300_gives_x_prime_on_every_route_that_escalates(method):
+    """x'' + 1e300 x' + x = 0, x(0) = 1: the float64 engines' poles overflow, and their
+    x'(t) was refused ("ρ = inf": the contract's scale S₀ρ could not be formed) where the
+    certified escalation serves it. Reference: the two real roots at 700 digits,
+    x' = λ₁λ₂(e^{λ₁t} − e^{λ₂t})/(λ₂ − λ₁)."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["1e300"]], K=[[1]], x0=[1], v0=[0])
+    times = [0.0, 1e-301, 1.0, 1e300]
+    values, bounds = ls.solve(scene, method=method).evaluate(times, return_error=True,
+                                                            derivative=1)
+    with mpmath.workdps(700):
+        c = mpmath.mpf(10) ** 300
+        root = mpmath.sqrt(c * c - 4)
+        slow, fast = (-c + root) / 2, (-c - root) / 2
+        for j, t in enumerate(times):
+            tt = mpmath.mpf(t)
+            ref = slow * fast * (mpmath.exp(slow * tt) - mpmath.exp(fast * tt)) / (fast - slow)
+            assert abs(values[0, j] - ref) <= bounds[0, j], (t, values[0, j], ref)
+            assert bounds[0, j] <= 1e-13 * 1e300  # the contract's scale S₀ρ = 1e300
 
 
 # ----------------------------------------------------------------------------- exact (mp)

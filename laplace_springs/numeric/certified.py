@@ -367,7 +367,8 @@ def certified_poles(scene: Scene) -> CertifiedPoles | None:
 def _start_bits(poles: CertifiedPoles, times: Times, digits: float) -> int:
     """Bits for ``digits`` decimal digits plus those of the largest phase |ρ| t."""
     reach = poles.spectral_radius() * float(np.max(np.abs(times.hi), initial=0.0))
-    return int(digits * 3.33) + 32 + max(0, math.ceil(math.log2(1.0 + reach)))
+    # beyond float64 (a pole of 1e300 at t = 1e300): the bits of the largest float64
+    return int(digits * 3.33) + 32 + max(0, math.ceil(math.log2(1.0 + min(reach, 1e308))))
 
 
 def certified_values(poles: CertifiedPoles, times: Times, order: int, target: float,

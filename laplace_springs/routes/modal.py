@@ -4,6 +4,7 @@ route (or the exact route's mpmath evaluation) for the times whose bound misses 
 
 from __future__ import annotations
 
+import math
 from functools import cached_property
 from typing import Any
 
@@ -69,8 +70,17 @@ class ModalSolution(Solution):
 
     @cached_property
     def _spectral_radius(self) -> float:  # the motion's poles do not change
+        """max |λ| from the motion's float64 poles; where they overflow (a damping of
+        1e300), from the certified poles, which the escalation evaluates with (so the
+        contract's scale S₀ρ^k is the same as on the certified route)."""
+        radius = self._float_radius()
+        if not math.isfinite(radius) and self._certified is not None:
+            return float(self._certified.spectral_radius())
+        return radius
+
+    def _float_radius(self) -> float:
         if isinstance(self.motion, ChebyshevMotion):  # no eigenvalues computed for evaluate()
-            return self.motion.spectral_radius
+            return float(self.motion.spectral_radius)
         radius = getattr(self.motion, "spectral_radius", None)  # the tiny engine keeps it
         if radius is not None:
             return float(radius)
