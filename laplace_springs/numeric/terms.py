@@ -38,6 +38,7 @@ import sympy as sp
 
 from ..exact.real_terms import Term
 from ..kernels.precision import workdps
+from ..limits import limits
 from .mp_expr import mp_value
 from .pole_sum import Block, PoleSum, evaluate_blocks, plan_blocks
 
@@ -237,7 +238,12 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
     with workdps(15):
         reach = (max((abs(z) for z in data.poles.nodes), default=mpmath.mpf(0))
                  * max((abs(tv) for tv in ts), default=mpmath.mpf(0)))
+        small = min((abs(tv) for tv in ts if tv), default=mpmath.mpf(1))
     extra = _digits(reach)
+    # a sum of m basis functions t^k e^{zt} that is not identically zero vanishes to order
+    # at most m - 1 at t = 0: near it the sum may cancel (m - 1)·log10(1/t) digits more
+    # (x'(1e-300) of a system driven from rest, about 1e-300 from terms of order 1)
+    near_zero = (sum(data.poles.multiplicity) - 1) * _digits(1 / small) if small < 1 else 0
     work = digits + extra + 10
     while True:
         source = data.at_precision(work + 10)
@@ -251,7 +257,8 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
                 lost = max((_cancelled(max(row[j] for row in sizes),
                                        max(abs(row[j]) for row in values), work)
                             for j in range(len(ts)) if n), default=0)
-        cap = 4 * digits + 200 + _digits(mag / scale if scale else mag)
+        cap = min(4 * digits + 200 + _digits(mag / scale if scale else mag) + near_zero,
+                  max(limits().max_dps, 4 * digits + 200))
         if work - lost - extra >= digits + 5 or work > cap:
             return values, sizes, work
         work = digits + lost + extra + 10
