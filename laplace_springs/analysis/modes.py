@@ -92,6 +92,9 @@ class Mode:
         Mode(ω_n=2, ζ=0, oscillatory)
         >>> Mode(-1.0, "real", 1.0, 0.0, None, 2, ())
         Mode(λ=-1, real, multiplicity 2)
+        >>> c, k, m = sp.symbols("c k m")
+        >>> Mode(None, "oscillatory", sp.sqrt(k / m), None, c / (2 * sp.sqrt(k * m)), 1, ())
+        Mode(ω_n=sqrt(k/m), ζ=c/(2*sqrt(k*m)), oscillatory)
         """
         if self.kind == "oscillatory":
             parts = [f"ω_n{Mode._compact(self.natural_frequency)}"]
@@ -109,8 +112,8 @@ class Mode:
         """``=2``, ``=sqrt(3)`` for short exact values, ``≈15.9954`` for long or float ones."""
         if isinstance(value, sp.Basic) and not value.has(sp.Float):
             text = sp.sstr(value)
-            if len(text) <= 14 and not value.has(sp.CRootOf, AlgebraicRoot):
-                return f"={text}"
+            if value.free_symbols or (len(text) <= 14 and not value.has(sp.CRootOf, AlgebraicRoot)):
+                return f"={text}"   # a formula in the parameters has no value to show
         number = complex(numeric_value(value, 15)) if isinstance(value, sp.Basic) else complex(value)
         shown = f"{number.real:.6g}" if number.imag == 0 else f"{number:.6g}"
         exact = not isinstance(value, sp.Basic) and complex(shown.strip("()")) == number
@@ -237,9 +240,31 @@ def _all_roots(factor: sp.Poly, scene: Scene) -> list[sp.Expr]:
 def _damped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:
     out = []
     for factor, multiplicity in determinant.factor_list()[1]:
+        pair = _symbolic_pair(scene, factor, multiplicity)
+        if pair is not None:
+            out.append(pair)
+            continue
         for root in _upper_roots(factor, scene):
             out.append(_mode(scene, root, multiplicity))
     return out
+
+
+def _symbolic_pair(scene: Scene, factor: sp.Poly, multiplicity: int) -> Mode | None:
+    """a λ² + b λ + c with symbolic coefficients whose roots are not known to be real: the
+    underdamped pair, as the exact route writes it (4ac > b² assumed): ω_n = √(c/a),
+    ζ = b/(2√(ac)), ω_d = √(4ac − b²)/(2a). SymPy's roots of a symbolic quadratic would
+    give |λ| through re(), im() and atan2 of the parameters (they may be complex to it).
+    None for other factors."""
+    if factor.degree() != 2 or not factor.free_symbols - set(factor.gens):
+        return None
+    a, b, c = factor.all_coeffs()
+    if b == 0 or sp.factor(b**2 - 4 * a * c).is_nonnegative:
+        return None  # undamped (ζ = 0 by the general path) or known real roots
+    damped = sp.factor(sp.sqrt(sp.factor(4 * a * c - b**2)) / (2 * a))
+    root = -b / (2 * a) + sp.I * damped
+    natural = _simplify(sp.sqrt(c / a))
+    ratio = b / (2 * sp.sqrt(a * c))
+    return Mode(root, "oscillatory", natural, damped, ratio, multiplicity, _shapes(scene, root))
 
 
 def _upper_roots(factor: sp.Poly, scene: Scene) -> list[sp.Expr]:

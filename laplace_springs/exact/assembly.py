@@ -48,6 +48,7 @@ from .real_terms import (
     derivative_terms,
     group_terms,
     naming_scope,
+    reserved_names,
     solution_terms,
     terms_expr,
 )
@@ -431,6 +432,12 @@ def exact_motion(scene: Scene) -> ExactMotion:
         solution needs; or when the scene has more than
         :attr:`~laplace_springs.limits.Limits.max_exact_coordinates` coordinates.
     """
+    with reserved_names(symbol.name for symbol in scene.free_symbols):
+        return _exact_motion(scene)
+
+
+def _exact_motion(scene: Scene) -> ExactMotion:
+    """:func:`exact_motion`, its named quantities numbered around the scene's own names."""
     if not free_rational(scene):  # its factors have exact terms at any degree
         screen_scene(scene)
     R = resolvent(scene)

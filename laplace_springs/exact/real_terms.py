@@ -15,7 +15,7 @@ sum over its roots (:mod:`laplace_springs.exact.root_sums`).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, field
@@ -30,7 +30,7 @@ from .partial_fractions import PoleGroup, RootSumGroup, is_symbolic_biquadratic,
 from .root_sums import Condition, sum_over_roots
 
 __all__ = ["Term", "RootSumTerm", "derivative_terms", "group_terms", "terms_expr",
-           "solution_terms", "naming_scope"]
+           "solution_terms", "naming_scope", "reserved_names"]
 
 Kind = Literal["real", "oscillatory", "hyperbolic", "root_sum"]
 
@@ -289,6 +289,9 @@ class _Names:
         """The named atom for (factor key, base); the next free index on first use."""
         if (key, base) not in self.assigned:
             index = self.counters.get(base, 0) + 1
+            taken = _RESERVED.get()
+            while f"{base}_{index}" in taken:  # a parameter of the scene has that name
+                index += 1
             atom = named(base, index, definition, positive=positive, meaning=meaning,
                          display=display)
             if atom.free_symbols:
@@ -298,6 +301,26 @@ class _Names:
 
 
 _SCOPE: ContextVar[_Names | None] = ContextVar("laplace_springs_names", default=None)
+_RESERVED: ContextVar[frozenset[str]] = ContextVar("laplace_springs_reserved", default=frozenset())
+
+
+@contextmanager
+def reserved_names(names: Iterable[str]) -> Iterator[None]:
+    """Printed names the named quantities made inside must not take: the names of the
+    scene's parameters, so that a parameter called ``omega_1`` or ``gamma_1`` is never
+    shown next to a different quantity of the same name (ω₁ = √ω₁).
+
+    >>> import sympy as sp
+    >>> from laplace_springs.model.scene import Scene
+    >>> from laplace_springs.exact.assembly import exact_motion   # reserves the scene's names
+    >>> exact_motion(Scene.from_matrices(M=[[1]], K=[[sp.Symbol("omega_1")]], x0=[1], v0=[0])).x[0]
+    cos(t*omega_2)
+    """
+    token = _RESERVED.set(_RESERVED.get() | frozenset(names))
+    try:
+        yield
+    finally:
+        _RESERVED.reset(token)
 
 
 @contextmanager

@@ -197,6 +197,7 @@ class NamedTerms:
 
     def _distinct_names(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
         """Re-index named quantities that share a printed name but differ (ω₁ of two factors)."""
+        symbols = {symbol.name for e in exprs for symbol in e.free_symbols}  # parameters' names
         for q in named_quantities(exprs):
             if q in self.renames:
                 continue
@@ -205,6 +206,8 @@ class NamedTerms:
                 self.renames[q] = q
                 continue
             index = 1 + max(i for base, i in self.taken if base == q.base)
+            while f"{q.base}_{index}" in symbols:
+                index += 1
             display = None if q.display is None else q.display.xreplace(self.renames)
             twin = named(q.base, index, q.definition, positive=q.positive, meaning=q.meaning,
                          display=display)

@@ -30,6 +30,7 @@ from ..exact.screening import has_exact_form
 from ..kernels.modulo import reduce_modulo
 from ..kernels.precision import workdps
 from ..limits import limits
+from ..model.errors import SceneError
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -70,6 +71,11 @@ class ExactSolution(Solution):
 
     @property
     def poles(self) -> np.ndarray:
+        symbols = self.scene.free_symbols
+        if symbols:  # float poles of a formula: name the way out, not mpmath's TypeError
+            names = ", ".join(sorted(symbol.name for symbol in symbols))
+            raise SceneError(f"poles need numbers, but the scene has the parameters {names}; "
+                             "substitute values (sol.subs) or see ls.modes for them as formulas")
         nodes = [complex(z) for z in self._numeric(0)[0].poles.nodes] if self.pieces else []
         return np.array(nodes, dtype=complex)
 
