@@ -939,10 +939,11 @@ def declare_parameters(parameters: object = None, *objects: object) -> dict[str,
         raise SceneError(f"parameters: {len(parameters):,} declared, more than the limit "
                          f"{limits().max_parameters:,} (Limits.max_parameters)")
     declared: dict[str, sympy.Symbol] = {}
+    origins: dict[str, str] = {}
     for symbol in _declarations(parameters):
-        _add_parameter(declared, symbol)
+        _add_parameter(declared, symbol, origins, "declared in parameters")
     for symbol in sorted(_symbols_in(objects), key=lambda symbol: symbol.name):
-        _add_parameter(declared, symbol)
+        _add_parameter(declared, symbol, origins, "a Symbol in the data")
     if len(declared) > limits().max_parameters:
         raise SceneError(f"parameters: {len(declared):,} named or found in the data, more than the "
                          f"limit {limits().max_parameters:,} (Limits.max_parameters)")
@@ -978,7 +979,18 @@ def _unfit_symbol(symbol: sympy.Basic) -> str | None:
     return None
 
 
-def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> None:
+def _symbol_text(symbol: sympy.Symbol) -> str:
+    """``Symbol('k', positive=True)``: the Symbol with the assumptions it was made with."""
+    given = getattr(symbol, "_assumptions_orig", None)
+    if given is None:  # an older SymPy: the assumptions that are True, less the implied ones
+        given = {key: True for key in ("positive", "nonnegative", "negative", "real", "integer")
+                 if symbol.assumptions0.get(key)}
+    words = "".join(f", {key}={value!r}" for key, value in sorted(given.items()))
+    return f"{type(symbol).__name__}({symbol.name!r}{words})"
+
+
+def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol,
+                   origins: dict[str, str], origin: str) -> None:
     reserved = reserved_name_message(symbol.name)
     if reserved is not None:  # a Symbol given in the data, say ls.omega or ls.s
         raise SceneError(f"the Symbol {symbol.name!r} in the data: {reserved}")
@@ -986,9 +998,13 @@ def _add_parameter(declared: dict[str, sympy.Symbol], symbol: sympy.Symbol) -> N
     if unfit is not None:
         raise SceneError(f"parameter {symbol.name!r}: {unfit}")
     known = declared.setdefault(symbol.name, symbol)
+    first = origins.setdefault(symbol.name, origin)
     if known != symbol:
-        raise SceneError(f"two different Symbols are named {symbol.name!r} (assumptions "
-                         f"{known.assumptions0} and {symbol.assumptions0}); use one")
+        hint = (" (a name declared in parameters is positive unless its declaration says "
+                "otherwise)" if "declared in parameters" in (first, origin) else "")
+        raise SceneError(f"two different Symbols are named {symbol.name!r}: {_symbol_text(known)} "
+                         f"({first}) and {_symbol_text(symbol)} ({origin}); use one Symbol for "
+                         f"the parameter {symbol.name!r}{hint}")
 
 
 def _free_symbols(item: sympy.Basic) -> set[sympy.Basic]:

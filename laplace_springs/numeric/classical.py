@@ -51,7 +51,7 @@ from ..model.symbols import TIME
 from .first_order import rational_entries, scene_arrays, scene_cache, scene_entries
 from .krylov_entries import entries_of
 
-__all__ = ["classical_damping", "float_matrices", "mode_poles", "float_eigenpairs", "classical_motion", "decompose_classical", "ClassicalMotion", "ModalForm", "ModalTerm", "SymmetricScene",
+__all__ = ["NOT_CLASSICAL", "classical_damping", "float_matrices", "mode_poles", "float_eigenpairs", "classical_motion", "decompose_classical", "ClassicalMotion", "ModalForm", "ModalTerm", "SymmetricScene",
            "symmetric_scene"]
 
 _EPS = float(np.finfo(float).eps)
@@ -117,6 +117,12 @@ def _clearly_not_classical(scene: Scene) -> bool:
 def _probe_vector(n: int) -> np.ndarray:
     """A fixed vector of entries in [1, 2) with no pattern a spring network shares."""
     return 1 + (np.arange(n) * 0.6180339887498949) % 1
+
+
+#: Why an engine of the symmetric eigenproblem declines a scene :func:`classical_damping` refuses
+#: (a nonsymmetric K is not a matter of damping, so the damping alone is not blamed).
+NOT_CLASSICAL = ("the scene is not classical (needs symmetric M, C, K, no massless node and "
+                 "C M⁻¹K = K M⁻¹C)")
 
 
 def classical_damping(scene: Scene) -> bool:

@@ -113,6 +113,7 @@ from ..limits import limits
 from ..model.errors import InternalError
 from ..model.scene import Scene
 from .classical import (
+    NOT_CLASSICAL,
     ModalForm,
     SymmetricScene,
     _eigen,
@@ -161,7 +162,7 @@ def refined_refusal(scene: Scene, *, t_max: float, count: int, order: int) -> st
     True
     >>> refined_refusal(Scene.from_matrices(M=[[1, 0], [0, 1]], C=[[1, 0], [0, 0]],
     ...     K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 0]), t_max=1.0, count=1, order=0)
-    'the damping is not classical (C M⁻¹K ≠ K M⁻¹C), or M is singular or not rational'
+    'the scene is not classical (needs symmetric M, C, K, no massless node and C M⁻¹K = K M⁻¹C)'
     """
     lim = limits()
     if scene.is_forced:
@@ -175,7 +176,7 @@ def refined_refusal(scene: Scene, *, t_max: float, count: int, order: int) -> st
     if scene.n > lim.refined_max_coordinates:
         return f"coordinates {scene.n:,} > Limits.refined_max_coordinates = {lim.refined_max_coordinates:,}"
     if not classical_damping(scene):
-        return "the damping is not classical (C M⁻¹K ≠ K M⁻¹C), or M is singular or not rational"
+        return NOT_CLASSICAL
     if _dense_stiffness(scene):
         if scene.n > lim.refined_dense_max_coordinates:
             return (f"a dense K of {scene.n:,} coordinates > Limits.refined_dense_max_coordinates = "

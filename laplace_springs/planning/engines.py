@@ -32,6 +32,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..limits import limits
+from ..numeric.classical import NOT_CLASSICAL
 from .facts import SceneFacts
 from .request import Request
 
@@ -170,7 +171,7 @@ def _symmetric_refusal(facts: SceneFacts, request: Request) -> str | None:
     if facts.classical is None:
         return _numeric(facts) or _not_asked()
     return (_numeric(facts)
-            or (None if facts.classical else "the damping is not classical (C M⁻¹K ≠ K M⁻¹C)")
+            or (None if facts.classical else NOT_CLASSICAL)
             or _size(facts, "classical_max_coordinates", "coordinates"))
 
 

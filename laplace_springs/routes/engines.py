@@ -86,6 +86,10 @@ def _classical(scene: Any, reason: str, target: float) -> Solution | Refusal:
     modal engine, which splits it off exactly, where that engine takes the scene."""
     motion = classical_motion(scene)
     if scene.n <= limits().general_modal_max_coordinates and motion.has_zero_frequency:
+        theta = motion.decomposition.theta
+        if float(np.min(theta)) < -1e-8 * float(np.max(np.abs(theta))):  # a growing mode
+            return Refusal("classical", "a negative modal stiffness (K is not positive "
+                           "semidefinite: unstable motion): the general modal engine serves it")
         return Refusal("classical", "a zero frequency (rigid-body motion): the general modal "
                        "engine splits it off exactly")
     return ModalSolution(scene, motion, reason=reason, target=target)

@@ -87,12 +87,18 @@ def _column(name: str, value: Any) -> tuple[np.ndarray, list[Any] | None]:
         return array.astype(float), None
     if array.dtype.kind == "b":
         raise SceneError(f"sweep: values of {name!r} must be real numbers, got booleans")
+    if array.dtype.kind == "c":  # name the first value with an imaginary part, not value 0
+        imaginary = np.flatnonzero(np.ravel(array).imag != 0)
+        k = int(imaginary[0]) if imaginary.size else 0
+        raise SceneError(f"sweep: value {k} of parameter {name!r}: expected a number, got "
+                         f"{complex(np.ravel(array)[k])!r} (a complex value; a parameter is real)")
     flat = list(array.ravel()) if array.ndim else [array.item()]
     exact = []
     for k, item in enumerate(flat):
         if isinstance(item, (bool, np.bool_)):
             raise SceneError(f"sweep: values of {name!r} must be real numbers, got {item!r}")
-        number = to_exact(item.item() if isinstance(item, np.generic) else item, f"parameter {name!r}")
+        number = to_exact(item.item() if isinstance(item, np.generic) else item,
+                          f"sweep: value {k} of parameter {name!r}")
         if number.free_symbols or not number.is_real:
             raise SceneError(f"sweep: value {k} of {name!r} must be a number, got {shown(item)}")
         exact.append(number)
