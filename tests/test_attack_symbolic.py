@@ -10,6 +10,7 @@ import sympy as sp
 
 import laplace_springs as ls
 from laplace_springs.exact.named import named_quantities
+from laplace_springs.output.named_terms import NamedTerms
 
 TIMES = [0.0, 0.5, 1.0, 3.0, 10.0]
 
@@ -149,3 +150,63 @@ def test_poles_of_a_symbolic_solution_name_the_parameters():
     poles = solution.subs({m: 2, c: 1, k: 3}).poles
     assert sorted(poles, key=lambda z: z.imag) == pytest.approx(
         sorted(np.roots([2, 1, 3]), key=lambda z: z.imag), rel=1e-15)
+
+
+@pytest.mark.parametrize("name", ["c_1", "alpha_1", "r_1"])
+def test_algebraic_constants_avoid_the_names_of_parameters(name):
+    """x0 = [c_1, 0, 0] on a chain whose Δ(λ) has an irreducible sextic: the output named
+    its coefficients c_1, c_2, ... too and printed "(c_1 c_1 + c_2) cos(β₁ t)"."""
+    p = sp.Symbol(name)
+    scene = ls.Scene.from_matrices(M=[[1, 0, 0], [0, 2, 0], [0, 0, 3]],
+                                   C=[["1/10", 0, 0], [0, 0, 0], [0, 0, 0]],
+                                   K=[[2, -1, 0], [-1, 2, -1], [0, -1, 1]], x0=[p, 0, 0], v0=[0, 0, 1])
+    solution = ls.solve(scene)
+    terms = NamedTerms()
+    terms.prepare(list(solution.x))
+    assert name not in {str(symbol) for symbol in terms.constants.values}
+    latex = solution.latex()
+    assert f"{sp.latex(p)} &=" not in latex and f"{sp.latex(p)} {sp.latex(p)}" not in latex
+    values = solution.subs({name: 2}).evaluate(TIMES)
+    reference = _reference(scene.subs({name: 2}), TIMES)
+    assert np.max(np.abs(values - reference)) <= 1e-13 * np.max(np.abs(reference))
+
+
+@pytest.mark.parametrize("name, meaning", [
+    ("J", "the imaginary unit"), ("sin", "the function sin(...)"), ("pi", "the constant pi"),
+    ("inf", "a number that is not finite"),
+])
+def test_refused_parameter_names_say_what_they_mean(name, meaning):
+    """'J' (an impulse, a moment of inertia) was refused as "a function, a constant or a
+    number that is not finite and real", without saying which, nor the way out."""
+    for parameters, K in (([name], [[name]]), (None, [[sp.Symbol(name)]])):
+        with pytest.raises(ls.SceneError) as error:
+            ls.Scene.from_matrices(M=[[1]], K=K, x0=[1], v0=[0], parameters=parameters)
+        assert f"'{name}' cannot be a parameter name: in text it is {meaning}" in str(error.value)
+        assert f"e.g. '{name}_0'" in str(error.value)
+    scene = ls.Scene.from_matrices(M=[[1]], K=[[f"{name}_0"]], x0=[1], v0=[0], parameters=[f"{name}_0"])
+    assert ls.solve(scene.subs({f"{name}_0": 4})).x[0] == sp.cos(2 * ls.t)
+
+
+def _unit_step_response(t: float) -> float:
+    """x'' + x' + x = θ(t) from rest, written out (ω = √3/2)."""
+    if t <= 0:
+        return 0.0
+    w = mpmath.sqrt(3) / 2
+    return float(1 - mpmath.exp(-t / 2) * (mpmath.cos(w * t) + mpmath.sin(w * t) / (2 * w)))
+
+
+@pytest.mark.parametrize("tau", [sp.Symbol("tau"), sp.Symbol("tau", positive=True)])
+def test_helpers_take_a_symbolic_switching_time(tau):
+    """ls.step(1, at=tau) was refused ("at must be a number >= 0") while the same input as
+    text, "Heaviside(t - tau)" with tau declared, was served."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[[1]], K=[[1]], x0=[0], v0=[0],
+                                   forcing=[ls.step(1, at=tau)])
+    times = [0.5, 1.5, 3.0]
+    for value, values in ((1, ls.solve(scene).subs({tau: 1}).evaluate(times)[0]),
+                          (2, ls.sweep(scene, {tau: [2]}, times)[0, 0])):
+        assert values == pytest.approx([_unit_step_response(t - value) for t in times], abs=1e-15)
+    with pytest.raises(ls.SceneError, match="at must be a number >= 0 or a parameter, got -1"):
+        ls.step(1, at=-1)
+    with pytest.raises(ls.SceneError, match="at must be a number >= 0 or a parameter"):
+        ls.impulse(1, at=sp.Symbol("a", negative=True))
+    assert ls.ramp(1, at=tau) == (ls.t - tau) * sp.Heaviside(ls.t - tau)

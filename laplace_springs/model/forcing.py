@@ -188,9 +188,12 @@ def ramp(slope: Any = 1, at: Any = 0) -> sp.Expr:
 
 
 def _nonnegative(value: Any, entry: str) -> sp.Expr:
+    """A switching time: a number ≥ 0, or a parameter expression not known to be negative
+    (taken as a delay, as ``Heaviside(t - tau)`` in text is: see
+    :mod:`laplace_springs.model.switching`)."""
     value = to_exact(value, entry)
-    if not value.is_number or value.is_negative:
-        raise SceneError(f"{entry} must be a number >= 0, got {value}")
+    if value.has(t) or value.is_negative or (value.is_number and not value.is_nonnegative):
+        raise SceneError(f"{entry} must be a number >= 0 or a parameter, got {value}")
     return value
 
 

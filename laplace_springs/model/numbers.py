@@ -868,9 +868,20 @@ def _parameter_name(name: object) -> str:
     if reserved is not None:
         raise SceneError(reserved)
     if name in ALLOWED_FUNCTIONS or name in CONSTANTS or name.lower() in NOT_FINITE_REAL:
-        raise SceneError(f"{name!r} cannot be a parameter name: it means a function, a "
-                         f"constant or a number that is not finite and real")
+        raise SceneError(f"{name!r} cannot be a parameter name: in text it is {_meaning(name)}; "
+                         f"rename the parameter, e.g. '{name}_0'")
     return name
+
+
+def _meaning(name: str) -> str:
+    """What a refused parameter name means in the text syntax."""
+    if name in ALLOWED_FUNCTIONS:
+        return f"the function {name}(...)"
+    if name in CONSTANTS:
+        return f"the constant {CONSTANTS[name]}"
+    if name.lower() in ("i", "j"):
+        return "the imaginary unit (i, j, I and J all are), and a parameter is real"
+    return "a number that is not finite and real"
 
 
 def _parameter_symbol(name: str, declaration: object) -> sympy.Symbol:

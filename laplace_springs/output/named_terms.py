@@ -90,18 +90,34 @@ class NamedConstants:
         Coefficient (an expression in CRootOf objects) → its name c_j.
     values : dict
         Name → the exact number it stands for.
+    reserved : set of str
+        Names no constant may take: the parameters of the expressions (a parameter c_1 of
+        the initial data is not the coefficient c_1), see :meth:`reserve`.
     """
 
     roots: dict[sp.Expr, tuple[sp.Symbol, ...]] = field(default_factory=dict)
     coefficients: dict[sp.Expr, sp.Symbol] = field(default_factory=dict)
     values: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    reserved: set[str] = field(default_factory=set)
+    counts: dict[str, int] = field(default_factory=dict)
+
+    def reserve(self, exprs: Sequence[sp.Expr]) -> None:
+        """Keep the names of the symbols in ``exprs`` (parameters) away from the constants."""
+        self.reserved.update(symbol.name for e in exprs for symbol in e.free_symbols)
+
+    def _index(self, kind: str, *bases: str) -> int:
+        """The next index of ``kind`` whose names ``base_index`` are all free."""
+        index = self.counts.get(kind, 0) + 1
+        while any(f"{base}_{index}" in self.reserved for base in bases):
+            index += 1
+        self.counts[kind] = index
+        return index
 
     def register_roots(self, exprs: Sequence[sp.Expr]) -> None:
         """Name every CRootOf in ``exprs`` not named yet."""
         found: set[sp.CRootOf] = set().union(*(e.atoms(sp.CRootOf) for e in exprs))
-        count = len(self.roots)
         for root in sorted(found - set(self.roots), key=_root_order):
-            count += 1
+            count = self._index("root", "r", "alpha", "beta")
             names: tuple[sp.Symbol, ...]
             if bool(root.is_real):
                 names = (sp.Symbol(f"r_{count}", real=True),)
@@ -158,7 +174,7 @@ class NamedConstants:
             parts = sp.collect(sp.expand(expr), symbols, evaluate=False)
             return sp.Add(*(self._constant(c) * m for m, c in parts.items()))
         if expr not in self.coefficients:
-            name = sp.Symbol(f"c_{len(self.coefficients) + 1}", real=True)
+            name = sp.Symbol(f"c_{self._index('coefficient', 'c')}", real=True)
             self.coefficients[expr] = name
             self.values[name] = expr
         return self.coefficients[expr]
@@ -184,6 +200,7 @@ class NamedTerms:
         given = [sp.sympify(e, strict=True) for e in exprs]
         steps_dropped = [e.replace(is_step_at_zero, lambda h: sp.S.One) for e in given]
         renamed = self._distinct_names(steps_dropped)
+        self.constants.reserve(renamed)
         self.constants.register_roots(renamed)
         for e in renamed:
             self.has_step |= e.has(sp.Heaviside)
