@@ -31,9 +31,10 @@ from ..kernels.modulo import reduce_modulo
 from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import SceneError
+from ..model.forcing import input_transform
 from ..model.numbers import generic_values
 from ..model.scene import Scene
-from ..model.symbols import TIME
+from ..model.symbols import TIME, lam
 from ..numeric.mp_expr import mp_size, mp_value, numeric_value
 from ..numeric.pole_sum import two_diff
 from ..numeric.terms import NumericTerms, float_values, mp_values, numeric_terms
@@ -44,6 +45,9 @@ from ..solution import DEFAULT_SAMPLES, Solution, Verification
 __all__ = ["ExactSolution", "exact_solution_of"]
 
 _EPS = float(np.finfo(float).eps)
+#: Below this float64 sees 0 (its smallest subnormal is 4.9e-324; not a float literal:
+#: 1e-330 is 0.0 in Python).
+_UNSEEN = mpmath.mpf("1e-330")
 
 
 class ExactSolution(Solution):
@@ -194,28 +198,58 @@ class ExactSolution(Solution):
 
     def _start(self, times: Times, order: int) -> tuple[np.ndarray, list[sp.Expr]] | None:
         """The columns at t = 0 exactly and x^(order)(0⁺) there, exact (orders 0 and 1:
-        the state after any jump), or None. Pole sums at 0 cancel to the initial data
-        only up to their rounding, which no relative bound can cover where that state
-        is 0 (a scene forced from rest)."""
-        if order > 1:
+        the state after any jump; order 2: :meth:`_acceleration_start`), or None. Pole
+        sums at 0 cancel to the initial data only up to their rounding, which no relative
+        bound can cover where that state is 0 (a scene forced from rest)."""
+        if order > 2:
             return None
         columns = np.flatnonzero((times.hi == 0) & (times.lo == 0))
         if not columns.size:
             return None
+        if order == 2:
+            return columns, self._acceleration_start()
         jump = self.initial_jump
         return columns, list(jump.x_plus if order == 0 else jump.v_plus)
 
+    def _acceleration_start(self) -> list[sp.Expr]:
+        """x''(0⁺), exact: the λ⁻³ coefficient at λ = ∞ of the transform switched on at
+        t = 0 (free response and inputs from t = 0) plus that of the periodic inputs' first
+        pieces (their response from rest starts with x = x' = 0 but x'' = M⁻¹f(0⁺)). Its
+        pole sums cancel at 0 like x's: x''(0) = 0 of a scene at rest under t·cos(3t)
+        was refused, or served only beside a time of 1e-300."""
+        cache = self.__dict__.setdefault("_piece_starts", {})
+        if "acceleration" not in cache:
+            motion = self.motion
+            first = motion.pieces[0]
+            R = motion.resolvent
+            numerators, denominator = ((list(R.numerators), R.determinant) if first.denominator is None
+                                       else (list(first.numerators), first.denominator))
+            start = [laurent_at_infinity(N, denominator, 3)[1][2] for N in numerators]
+            if motion.periodic is not None and self.scene.forcing is not None:
+                load = [sp.Add(*(part for tau, part in T.periodic if tau == 0))
+                        for T in (input_transform(f, f"forcing[{j}]", lam)
+                                  for j, f in enumerate(self.scene.forcing))]
+                for i in range(self.scene.n):
+                    N, D = sp.fraction(sp.cancel(sp.Add(*(R.adjugate[i, j] * load[j]
+                                                         for j in range(self.scene.n)))
+                                                 / R.determinant.as_expr()))
+                    if N != 0:
+                        start[i] += laurent_at_infinity(sp.Poly(N, lam), sp.Poly(D, lam), 3)[1][2]
+            cache["acceleration"] = start
+        found: list[sp.Expr] = cache["acceleration"]
+        return found
+
     def _piece_start(self, piece: Any, order: int) -> list[float] | None:
-        """x^(order) of a delayed piece just after it switches on (orders 0 and 1; from its
-        transform at λ = ∞, exact, rounded once), or None: its pole sum at t − τ = 0
+        """x^(order) of a delayed piece just after it switches on (orders 0, 1 and 2; from
+        its transform at λ = ∞, exact, rounded once), or None: its pole sum at t − τ = 0
         cancels to that state only up to its rounding, which no relative bound covers
         where the motion is 0 there (a scene at rest until a delayed input)."""
-        if order > 1 or piece.delay == 0 or not piece.numerators or piece.denominator is None:
+        if order > 2 or piece.delay == 0 or not piece.numerators or piece.denominator is None:
             return None
         cache = self.__dict__.setdefault("_piece_starts", {})
         key = (piece.delay, order)
         if key not in cache:
-            expansions = [laurent_at_infinity(N, piece.denominator, 2) for N in piece.numerators]
+            expansions = [laurent_at_infinity(N, piece.denominator, 3) for N in piece.numerators]
             impulsive = any(not q.is_zero for q, _ in expansions)
             cache[key] = None if impulsive else [
                 float(mp_value(a[order], 20)) if a[order] != 0 else 0.0 for _, a in expansions]
@@ -256,8 +290,11 @@ class ExactSolution(Solution):
             bounds += bound
         return values, bounds
 
-    def _mp(self, times: Times, order: int, digits: int, floor: float) -> tuple[list, list]:
-        """mpmath values and bounds (n lists of mpf) good to ``digits`` of max(|x|, floor).
+    def _mp(self, times: Times, order: int, digits: int, floor: float,
+            enough: mpmath.mpf = 0) -> tuple[list, list]:
+        """mpmath values and bounds (n lists of mpf) good to ``digits`` of max(|x|, floor),
+        or to ``enough`` absolutely (a time whose values and bounds are all below it is
+        not refined further: float64 sees 0 there).
 
         The parts (pieces, a periodic response's sums at the reduced times, its tail) are
         each good to ``digits`` of their own size; where they cancel (a period of 1e-40:
@@ -265,16 +302,22 @@ class ExactSolution(Solution):
         total, bounds, sizes = self._mp_parts(times, order, digits, floor)
         start = self._start(times, order)
         exact_columns = set() if start is None else set(start[0].tolist())
-        kept = [j for j in range(len(times)) if j not in exact_columns]
-        with workdps(30):  # t = 0 is set exactly below: its cancellation does not count
-            scale = max([mpmath.mpf(floor), *(abs(row[j]) for row in total for j in kept)])
-            largest = max((row[j] for row in sizes for j in kept), default=mpmath.mpf(0))
-            # parts that cancel to exactly 0 (no floor): every digit may be lost
-            lost = largest / scale if scale > 0 else (mpmath.inf if largest > 0 else 0)
-        if lost > 10 and digits < limits().max_dps:
-            more = limits().max_dps if lost == mpmath.inf else \
-                min(digits + int(mpmath.log10(lost)) + 5, limits().max_dps)
-            total, bounds, _ = self._mp_parts(times, order, more, floor)
+        # t = 0 is set exactly below: its cancellation does not count
+        work = {j: digits for j in range(len(times)) if j not in exact_columns}
+        while True:
+            redo: dict[int, list[int]] = {}
+            for j, done in work.items():
+                more = self._more_digits(total, bounds, sizes, j, (digits, done), floor, enough)
+                if more:
+                    redo.setdefault(more, []).append(j)
+            if not redo:
+                break
+            for more, redone in redo.items():
+                again, bound, size = self._mp_parts(times.subset(np.array(redone)), order, more, floor)
+                for k, j in enumerate(redone):
+                    work[j] = more
+                    for i in range(self.scene.n):
+                        total[i][j], bounds[i][j], sizes[i][j] = again[i][k], bound[i][k], size[i][k]
         if start is not None:  # the exact state after the jump, to the digits asked
             columns, exact = start
             for i, value in enumerate(exact):
@@ -284,6 +327,30 @@ class ExactSolution(Solution):
                         total[i][j] = held
                         bounds[i][j] = abs(held) * mpmath.mpf(10) ** (-digits - 3)
         return total, bounds
+
+    @staticmethod
+    def _more_digits(total: list, bounds: list, sizes: list, j: int, digits: tuple[int, int],
+                     floor: float, enough: mpmath.mpf) -> int:
+        """The digits to evaluate column ``j`` at again (0: it stands): the parts are each
+        good to ``done`` digits of their own size; where they cancel to x(t) (a period of
+        1e-40: sums of 1e33 that add up to 0.05; a periodic response at t = 1e-300: parts
+        of order 1 that add up to 1e-300) the column needs the digits lost besides. The sum
+        seen at ``done`` digits may itself be rounding, so at least twice the digits are
+        taken until it stands (or until its values and bounds are below ``enough``).
+        Column by column: a time's digits are its own."""
+        asked, done = digits
+        with workdps(30):
+            if max(*(abs(row[j]) for row in total), *(row[j] for row in bounds)) < enough:
+                return 0
+            scale = max([mpmath.mpf(floor), *(abs(row[j]) for row in total)])
+            largest = max((row[j] for row in sizes), default=mpmath.mpf(0))
+            # parts that cancel to exactly 0 (no floor): every digit may be lost
+            lost = largest / scale if scale > 0 else (mpmath.inf if largest > 0 else 0)
+        top = limits().max_dps
+        if lost <= 10 or done >= top:
+            return 0
+        need = top if lost == mpmath.inf else asked + int(mpmath.log10(lost)) + 5
+        return 0 if need <= done else min(max(need, 2 * done), top)
 
     def _mp_parts(self, times: Times, order: int, digits: int,
                   floor: float) -> tuple[list, list, list]:
@@ -330,7 +397,7 @@ class ExactSolution(Solution):
 
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         digits = max(limits().escalation_digits, math.ceil(-math.log10(target)) + 5)
-        total, bounds = self._mp(times, order, digits, self._floor(order))
+        total, bounds = self._mp(times, order, digits, self._floor(order), enough=_UNSEEN)
         values = np.array([[float(v) for v in row] for row in total])
         errors = np.array([[float(b) for b in row] for row in bounds])
         return values, errors + np.abs(values) * _EPS
