@@ -305,14 +305,22 @@ def _mode(scene: Scene, root: sp.Expr, multiplicity: int) -> Mode:
 
 
 def _shapes(scene: Scene, root: sp.Expr, dps: int = 30) -> tuple[np.ndarray, ...]:
-    """Null vectors of the pencil at ``root``, from an SVD of its accurately rounded value."""
+    """Null vectors of the pencil at ``root``, from an SVD of its accurately rounded value.
+
+    A singular value counts as zero relative to the size of the pencil's parts,
+    |λ|²‖M‖ + |λ|‖C‖ + ‖K‖, not to the pencil's own largest one: where the whole pencil
+    vanishes (M = I, C = I/5, K = 4I: every vector is a shape) that one is rounding too.
+    """
     generic = generic_values(scene.free_symbols)
     at = root.xreplace(generic)
     pencil = (lam**2 * scene.M + lam * scene.C + scene.K).xreplace(generic)
     P = np.array([[complex(numeric_value(e.subs(lam, at), dps)) for e in row]
                   for row in pencil.tolist()])
     _, sigma, vh = np.linalg.svd(P)
-    scale = max(sigma[0], 1e-300)
+    size = abs(complex(numeric_value(at, dps)))
+    parts = [float(np.linalg.norm(np.array(m.xreplace(generic).tolist(), dtype=complex), 2))
+             for m in (scene.M, scene.C, scene.K)]
+    scale: float = max(size**2 * parts[0] + size * parts[1] + parts[2], 1e-300)
     null = [vh[k].conj() for k in range(len(sigma)) if sigma[k] <= 1e-9 * scale] or [vh[-1].conj()]
     return tuple(_normalise(v) for v in null)
 
