@@ -210,3 +210,30 @@ def test_helpers_take_a_symbolic_switching_time(tau):
     with pytest.raises(ls.SceneError, match="at must be a number >= 0 or a parameter"):
         ls.impulse(1, at=sp.Symbol("a", negative=True))
     assert ls.ramp(1, at=tau) == (ls.t - tau) * sp.Heaviside(ls.t - tau)
+
+
+_R2, _PI = sp.sqrt(2), sp.pi
+
+
+@pytest.mark.parametrize("matrices", [
+    {"M": [[1]], "C": [[2 * _R2]], "K": [[2]]},                       # (λ + √2)²: NotInvertible
+    {"M": [[1]], "C": [[2 * sp.sqrt(_PI)]], "K": [[_PI]]},            # (λ + √π)²: x = nan
+    {"M": [[1]], "C": [[2 * sp.E]], "K": [[sp.E**2]]},
+    {"M": [[1, 0], [0, 1]], "C": [[2 * _R2, 0], [0, 2 * _R2]], "K": [[2, 0], [0, 2]]},   # TypeError
+    {"M": [[1, 0], [0, 1]], "C": [[_R2, -_R2], [-_R2, _R2]], "K": [[1, -1], [-1, 1]]},
+    {"M": [[1, 0], [0, 1]], "C": [[2 * _R2, 0], [0, 0]], "K": [[2, 0], [0, 0]]},
+])
+@pytest.mark.parametrize("method", ["auto", "exact", "modal"])
+def test_irrational_entries_at_critical_damping(matrices, method):
+    """Entries such as √2 or π at a double pole: the exact route raised SymPy's
+    NotInvertible (factor_list over EX leaves (λ + √2)² whole), TypeError (adj_det over
+    EX, two coordinates) or returned x = nan (ZZ[π, √π] takes √π² for a new unknown);
+    the modal route's escalation met the same. Against mpmath's expm at 40 digits."""
+    n = len(matrices["M"])
+    scene = ls.Scene.from_matrices(**matrices, x0=[1] + [0] * (n - 1), v0=[0] * (n - 1) + [1])
+    solution = ls.solve(scene, method=method)
+    reference = _reference(scene, TIMES)
+    values = solution.evaluate(TIMES)
+    assert np.max(np.abs(values - reference)) <= 1e-13 * max(1.0, np.max(np.abs(reference)))
+    if method == "exact":
+        assert not solution.x.has(sp.nan, sp.zoo) and solution.verify()

@@ -17,6 +17,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.algebraic import AlgebraicRoot
+from ..exact.partial_fractions import exact_factors
 from ..exact.resolvent import resolvent
 from ..limits import limits
 from ..model.errors import SceneError
@@ -213,7 +214,7 @@ def _undamped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:
     coeffs = determinant.all_coeffs()[::-1]  # ascending powers of λ
     p = sp.Poly(sum(c * (-_MU) ** (k // 2) for k, c in enumerate(coeffs) if k % 2 == 0), _MU)
     out = []
-    for factor, multiplicity in p.factor_list()[1]:
+    for factor, multiplicity in exact_factors(p):
         for mu in _all_roots(factor, scene):
             if mu == 0:
                 out.append(Mode(sp.S.Zero, "rigid", sp.S.Zero, sp.S.Zero, None, 2 * multiplicity,
@@ -239,7 +240,7 @@ def _all_roots(factor: sp.Poly, scene: Scene) -> list[sp.Expr]:
 
 def _damped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:
     out = []
-    for factor, multiplicity in determinant.factor_list()[1]:
+    for factor, multiplicity in exact_factors(determinant):
         pair = _symbolic_pair(scene, factor, multiplicity)
         if pair is not None:
             out.append(pair)

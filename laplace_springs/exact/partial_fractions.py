@@ -51,7 +51,7 @@ from .domains import field_polys
 from .rational import from_poly, rational_partial_fractions, to_poly
 from .root_sums import Condition, SumOverRoots, root_sum_weights
 
-__all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose",
+__all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose", "exact_factors",
            "closed_form_obstacle", "check_closed_form",
            "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of", "GenericCondition",
            "denominator_conditions"]
@@ -407,6 +407,11 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
         One decomposition per numerator, in order.
     """
     s = denominator.gen
+    if _numeric_generators(denominator.domain) or any(_numeric_generators(N.domain) for N in numerators):
+        # ZZ[pi, sqrt(pi)] takes sqrt(pi)**2 for a new unknown: (λ + √π)² would be a simple
+        # factor with residues over 0. EX simplifies the numbers' expressions instead.
+        denominator = denominator.set_domain(sp.EX)
+        numerators = [N.set_domain(sp.EX) for N in numerators]
     own_field = denominator.domain.get_field()
     field = own_field
     for N in numerators:
@@ -414,6 +419,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
     denominator = denominator.set_domain(own_field)
     lc = denominator.LC()
     factors = [(f.set_domain(own_field).monic(), m) for f, m in denominator.factor_list()[1]]
+    if own_field.is_EX:  # irrational entries: SymPy's factor_list over EX leaves a square whole
+        factors = _squarefree(factors)
     summed = root_sums and closed_form
     cancelled = check_closed_form(factors, numerators, root_sums=summed) if closed_form else set()
     if field != own_field:
@@ -444,6 +451,53 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
                 target.append(group)
     return [PartialFractions(s, quotient, tuple(groups))
             for (quotient, _), groups in zip(quotients, groups_per)]
+
+
+def exact_factors(poly: sp.Poly) -> list[tuple[sp.Poly, int]]:
+    """The factors of ``poly`` with their multiplicities (``factor_list()[1]``), where SymPy's
+    own would hide a square: numbers taken as unknowns (ZZ[pi, sqrt(pi)]) are read in EX,
+    and factors over EX are split into squarefree parts (:func:`_squarefree`).
+
+    >>> lam = sp.Symbol("lambda")
+    >>> exact_factors(sp.Poly(lam**3 + 2*sp.sqrt(sp.pi)*lam**2 + sp.pi*lam, lam))
+    [(Poly(lambda, lambda, domain='EX'), 1), (Poly(lambda + sqrt(pi), lambda, domain='EX'), 2)]
+    """
+    if _numeric_generators(poly.domain):
+        poly = poly.set_domain(sp.EX)
+    factors = poly.factor_list()[1]
+    return _squarefree(factors) if poly.domain.is_EX else list(factors)
+
+
+def _numeric_generators(domain: Any) -> bool:
+    """Whether ``domain`` is a ring or field of numbers taken as unknowns (ZZ[pi, sqrt(pi)],
+    QQ(E)): SymPy cannot see the relations between them."""
+    if not (domain.is_PolynomialRing or domain.is_FractionField):
+        return False
+    symbols: tuple[Any, ...] = tuple(getattr(domain, "symbols", ()))
+    return bool(symbols) and all(not sp.sympify(symbol).free_symbols for symbol in symbols)
+
+
+def _squarefree(factors: list[tuple[sp.Poly, int]]) -> list[tuple[sp.Poly, int]]:
+    """Factors over EX split into squarefree parts with their multiplicities.
+
+    Over EX (entries such as √2 or π) ``factor_list`` returns λ² + 2√2 λ + 2 = (λ + √2)²
+    as one simple factor, whose residues then divide by zero (critical damping with
+    irrational coefficients). Each part's coefficients are written without nested
+    radicals in their denominators (``sqf_list`` gives √2 as 3802396√3/(1901198√6 − ...)).
+
+    >>> lam = sp.Symbol("lambda")
+    >>> _squarefree([(sp.Poly(lam**2 + 2*sp.sqrt(2)*lam + 2, lam, domain="EX"), 1)])
+    [(Poly(lambda + sqrt(2), lambda, domain='EX'), 2)]
+    """
+    out: dict[sp.Poly, int] = {}
+    for factor, multiplicity in factors:
+        for part, power in factor.sqf_list()[1]:
+            if part.degree() < 1:
+                continue
+            coefficients = [sp.sqrtdenest(sp.radsimp(c)) for c in part.monic().all_coeffs()]
+            cleaned = sp.Poly(coefficients, part.gen, domain=part.domain)
+            out[cleaned] = out.get(cleaned, 0) + multiplicity * power
+    return list(out.items())
 
 
 def _over_q(poly: sp.Poly) -> Any:

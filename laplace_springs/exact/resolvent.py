@@ -135,6 +135,9 @@ def _adjugate_and_determinant(P: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
     if P.shape == (1, 1):
         return sp.Matrix([[1]]), P[0, 0]
     dM = DomainMatrix.from_Matrix(P)
+    if dM.domain.is_EX:  # entries such as √2 or π: SymPy's adj_det over EX raises TypeError
+        return (sp.Matrix(P).adjugate(method="berkowitz").applyfunc(sp.expand),
+                sp.expand(P.det(method="berkowitz")))
     adj, det = dM.adj_det()
     return adj.to_Matrix(), dM.domain.to_sympy(det)
 
