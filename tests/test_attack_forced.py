@@ -162,3 +162,14 @@ def test_modes_of_a_repeated_eigenvalue_have_every_shape(c, k, multiplicity):
     root = complex(-cf / 2, math.sqrt(max(k - cf * cf / 4, 0.0)))  # λ² + cλ + k = 0, by hand
     assert abs(complex(mode.eigenvalue) - root) < 1e-14
     assert abs(np.linalg.det(np.array(mode.shapes))) > 0.5   # independent, largest entry 1
+
+
+def test_plan_of_a_sampled_scene_prints():
+    """str(sol.plan(...)) of a sampled scene raised KeyError('tiny+sampled') from the
+    engine table: a sampled solution's own engine is not in it."""
+    times = np.linspace(0, 10, 101)
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["1/2"]], K=[[4]], x0=[0], v0=[0],
+                                   forcing=[ls.sampled(times, np.sin(times))])
+    sol = ls.solve(scene)
+    text = str(sol.plan([0.5, 5], derivative=2))
+    assert f"{sol.method} " in text and "plus the responses to its sampled forces" in text

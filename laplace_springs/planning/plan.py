@@ -130,13 +130,29 @@ class Plan:
         for name in self.chain:
             cost, horizon = self.costs[name], self.horizons.get(name, math.inf)
             until = "" if math.isinf(horizon) else f", times up to {horizon:.3g}"
-            lines.append(f"  {name:10s} ~{cost.seconds:.2g} s{until}: {engine(name).summary}")
+            lines.append(f"  {name:10s} ~{cost.seconds:.2g} s{until}: {_summary(name)}")
         last = self.chain_for(self.request.t_max) if self.chain else self.chain
         if last != self.chain:
             lines.append(f"  times near t = {self.request.t_max:g} escalate in the order of "
                          f"their own band: {', '.join(last)}")
         lines += [f"  declined   {refusal}" for refusal in self.refusals]
         return "\n".join(lines)
+
+
+def _summary(name: str) -> str:
+    """What engine ``name`` does: the table's summary, or for a sampled scene's own engine
+    (``"exact+sampled"``) its base's and the sampled responses.
+
+    >>> _summary("exact+sampled")
+    'exact (exact partial fractions, float64 pole sums) for the rest of the scene, plus the responses to its sampled forces'
+    """
+    base, plus, own = name.partition("+")
+    if plus and own == "sampled":
+        return f"{base} ({_summary(base)}) for the rest of the scene, plus the responses to its sampled forces"
+    try:
+        return engine(name).summary
+    except KeyError:
+        return "an engine of the solution's own"
 
 
 def plan(facts: SceneFacts, request: Request, *, method: str = "auto",
