@@ -116,7 +116,7 @@ def _planned_solution(scene: Scene, facts: Any, method: str, target: float) -> S
             if probed:  # every engine misses the target at the probe: the tightest serves
                 _, best, chosen = min(probed, key=lambda entry: entry[0])
                 return _finish(best, chosen, method, refusals)
-            raise _no_engine(chosen, method, refusals, facts)
+            raise _no_engine(chosen, method, refusals, facts, scene, target)
         name = chosen.chain[0]
         solution = _build(name, scene, chosen, target, method)
         if isinstance(solution, Refusal):
@@ -217,20 +217,31 @@ def _warnings(solution: Solution) -> str:
     return "".join(f"; warning: {w}" for w in found)
 
 
-def _no_engine(chosen: Plan, method: str, refusals: list[Refusal], facts: Any) -> ValueError:
+def _no_engine(chosen: Plan, method: str, refusals: list[Refusal], facts: Any, scene: Scene,
+               target: float) -> ValueError:
     """The error when no engine of ``method`` can take the scene: the refusals of the
-    engines asked for, and the engines that could (the way out)."""
+    engines asked for, and the way out (the first other engine of the plan that builds)."""
     reasons = [*chosen.refusals, *refusals]
     if method == "auto":
         return LimitError(chosen.reason + "".join(f"; {r}" for r in refusals))
     members = FAMILIES.get(method, (method,))
     mine = [r for r in reasons if r.engine in members]
     text = "; ".join(r.reason if len(members) == 1 else str(r) for r in mine) or chosen.reason
-    others = plan(facts, DEFAULT_REQUEST, available=set(BUILDERS) - set(members)).chain
-    way_out = (f"; use method={others[0]!r} (or 'auto')" if others
+    others = plan(facts, DEFAULT_REQUEST, available=set(BUILDERS) - set(members))
+    serving = next((name for name in others.chain if _builds(name, scene, others, target)),
+                   None)
+    way_out = (f"; use method={serving!r} (or 'auto')" if serving is not None
                else "; no engine of the package takes it")
     error = LimitError if any(r.limit for r in mine) else SceneError
     return error(f"the {method} route cannot take this scene: {text}{way_out}")
+
+
+def _builds(name: str, scene: Scene, chosen: Plan, target: float) -> bool:
+    """Whether engine ``name`` takes the scene (it is built to find out)."""
+    try:
+        return not isinstance(_build(name, scene, chosen, target), Refusal)
+    except (SceneError, LimitError, ValueError):
+        return False
 
 
 def plan_for(scene: Scene, times: Any = None, *, method: str = "auto", target: float | None = None,

@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib
 import io
 import math
+import re
 import sys
 
 import mpmath
@@ -325,3 +326,23 @@ def test_the_tiny_scenes_facts_from_the_exact_reading_are_the_general_ones():
     ]
     for scene in refused:
         assert facts._tiny_facts(scene) is None
+
+
+@pytest.mark.parametrize("method", ["classical", "exo"])
+def test_the_way_out_a_refusal_names_serves_the_scene(method):
+    """Five free masses (K = 0): method='classical' refuses at build time (a zero frequency)
+    and the refusal named 'classical' itself, or the plan's next engine, as the way out
+    without trying it. The engine it names now takes the scene; its values follow
+    x = x0 + v0·t exactly."""
+    n = 5
+    scene = ls.Scene.from_matrices(M=[[int(i == j) for j in range(n)] for i in range(n)],
+                                K=[[0] * n for _ in range(n)], x0=[1, 2, 3, 4, 5],
+                                v0=[1, -1, 0, 0, "1/2"])
+    with pytest.raises(ls.SceneError) as refused:
+        ls.solve(scene, method=method)
+    named = re.search(r"use method='(\w+)'", str(refused.value))
+    assert named is not None and named.group(1) != method
+    times = [0.0, 1.0, 7.5]
+    values, bounds = ls.solve(scene, method=named.group(1)).evaluate(times, return_error=True)
+    expected = [[x + v * t for t in times] for x, v in zip([1, 2, 3, 4, 5], [1, -1, 0, 0, 0.5])]
+    assert np.all(np.abs(values - np.array(expected)) <= bounds)
