@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
+import mpmath
 import numpy as np
 import pytest
 from flint import acb, acb_mat, arb, ctx, fmpq, fmpq_mat
@@ -173,3 +174,38 @@ def test_plan_of_a_sampled_scene_prints():
     sol = ls.solve(scene)
     text = str(sol.plan([0.5, 5], derivative=2))
     assert f"{sol.method} " in text and "plus the responses to its sampled forces" in text
+
+
+def test_switch_on_instant_given_as_decimal_text():
+    """H(t − 3/10) from rest: at t = "0.3" (exactly 3/10, the double-double 0.3 + 1.1e-17)
+    the shifted time was the unnormalised pair (-1.1e-17, 1.1e-17), not seen as the switching
+    instant: x = x' = 0 came from the mp sums with a bound of 5e-299. Float 0.3 is before it."""
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[[0]], K=[[4]], x0=[0], v0=[0],
+                                          forcing=["Heaviside(t - 3/10)"]))
+    for time, acceleration in (("0.3", 1.0), ("3/10", 1.0), (0.3, 0.0)):
+        for order, expected in ((0, 0.0), (1, 0.0), (2, acceleration)):
+            values, bounds = sol.evaluate([time], derivative=order, return_error=True)
+            assert values[0, 0] == expected and bounds[0, 0] <= max(5e-324, 1e-14 * expected)
+
+
+@pytest.mark.parametrize("forcing, time, s", [
+    ("Heaviside(t - 3/10)", "0.30000000000000000000000000001", "1e-29"),
+    ("Heaviside(t - 3/10)", "0.3000000000000000000000000000000001", "1e-34"),
+    ("Heaviside(t - 3/10)", "0.2999999999999999999999999999999999", "-1e-34"),
+    ("Heaviside(t - sqrt(2)/5)", "0.28284271247461900976033774484194", None),
+])
+def test_times_within_double_double_reach_of_a_switch(forcing, time, s):
+    """t − τ was formed from the double-doubles of t and τ (2⁻¹⁰⁶ of their size each):
+    at 3/10 + 1e-29, x = 4.999999999998824e-59 (error 1.2e-71, bound 5e-73) and x' likewise;
+    at 3/10 − 1e-34 the force was on: x'' = 1 (bound 1e-14) where it is 0. Now exact.
+    Reference: x = (1 − cos 2s)/4, x' = sin(2s)/2, x'' = cos 2s for s = t − τ ≥ 0 (0 before)."""
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[[0]], K=[[4]], x0=[0], v0=[0], forcing=[forcing]))
+    with mpmath.workdps(120):
+        shift = mpmath.mpf(time) - (mpmath.sqrt(2) / 5 if s is None else mpmath.mpf(3) / 10)
+        on = shift >= 0
+        expected = [(1 - mpmath.cos(2 * shift)) / 4 * on, mpmath.sin(2 * shift) / 2 * on,
+                    mpmath.cos(2 * shift) * on]
+    for order in (0, 1, 2):
+        values, bounds = sol.evaluate([time], derivative=order, return_error=True)
+        ref = float(expected[order])
+        assert abs(values[0, 0] - ref) <= bounds[0, 0] <= max(1e-13 * abs(ref), 5e-324), (order, ref)

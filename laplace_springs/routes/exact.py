@@ -27,6 +27,7 @@ from ..exact.assembly import ExactMotion, PeriodicResponse, exact_motion
 from ..exact.jumps import jump_residuals, laurent_at_infinity
 from ..exact.root_sums import Condition
 from ..exact.screening import has_exact_form
+from ..kernels.dd import two_sum
 from ..kernels.modulo import reduce_modulo
 from ..kernels.precision import workdps
 from ..limits import limits
@@ -185,16 +186,28 @@ class ExactSolution(Solution):
         return cache[key]
 
     def _shifted(self, times: Times, delay: sp.Expr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Columns with t ≥ delay and t − delay there as a double-double."""
+        """Columns with t ≥ delay and t − delay there as a double-double.
+
+        Times within 2⁻⁴⁸ (relative) of the delay are compared and shifted exactly
+        (:func:`_exact_shift`): the double-doubles of t and τ each hold 2⁻¹⁰⁶ of their
+        size, which t = "0.3" + 1e-29 against τ = 3/10 would turn into an error of 1e-13
+        in t − τ (and so in x ≈ (t − τ)²/2, beyond its bound), and a time 1e-34 before τ
+        into one after it."""
         if delay == 0:
             return np.arange(len(times)), times.hi, times.lo
         with workdps(40):
             tau = mp_value(delay, 40)
             tau_hi = float(tau)
             tau_lo = float(tau - tau_hi)
-        on = np.flatnonzero((times.hi > tau_hi) | ((times.hi == tau_hi) & (times.lo >= tau_lo)))
-        hi, lo = two_diff(times.hi[on], tau_hi, tau_lo)
-        return on, hi, lo + times.lo[on]
+        after = (times.hi > tau_hi) | ((times.hi == tau_hi) & (times.lo >= tau_lo))
+        hi, lo = two_diff(times.hi, tau_hi, tau_lo)
+        hi, lo = two_sum(hi, lo + times.lo)
+        with np.errstate(invalid="ignore"):
+            near = np.abs(times.hi - tau_hi) <= 2.0**-48 * np.maximum(np.abs(times.hi), abs(tau_hi))
+        for j in np.flatnonzero(near).tolist():
+            hi[j], lo[j], after[j] = _exact_shift(times, j, delay)
+        on = np.flatnonzero(after)
+        return on, hi[on], lo[on]
 
     def _start(self, times: Times, order: int) -> tuple[np.ndarray, list[sp.Expr]] | None:
         """The columns at t = 0 exactly and x^(order)(0⁺) there, exact (orders 0 and 1:
@@ -364,10 +377,12 @@ class ExactSolution(Solution):
             sizes = [[mpmath.mpf(0)] * len(times) for _ in range(n)]
             stamps = [times.mpf(j) for j in range(len(times))]
         for piece, data in zip(self.pieces, self._numeric(order)):
-            with workdps(work):
-                tau = mp_value(piece.delay, work) if piece.delay != 0 else mpmath.mpf(0)
-                on = [j for j, tv in enumerate(stamps) if tv >= tau]
-                shifted = [stamps[j] - tau for j in on]
+            if piece.delay == 0:
+                on, shifted = list(range(len(times))), stamps
+            else:
+                moved = [_mp_shift(times, j, piece.delay, work) for j in range(len(times))]
+                on = [j for j, v in enumerate(moved) if v >= 0]
+                shifted = [moved[j] for j in on]
             if not on:
                 continue
             part, bound, _ = mp_values(data, n, shifted, digits, [floor] * len(on))
@@ -454,6 +469,43 @@ class ExactSolution(Solution):
         scale = max(1.0, _size([e.replace(sp.DiracDelta, lambda *a: 0) for e in sizes], generic, 20))
         ode = _size([_at_time(e, held, tv).subs(TIME, tv) for e in residual for tv in times], {}, dps)
         return Verification(ode / scale, _size(start, generic, dps) / scale, tolerance)
+
+
+def _exact_shift(times: Times, j: int, delay: sp.Expr) -> tuple[float, float, bool]:
+    """t_j − τ as a double-double (rounded once) and whether t_j ≥ τ, from exact values:
+    rational arithmetic for a rational τ, else mpmath with the digits the difference
+    cancels (t is rational, so t ≠ τ for an irrational τ)."""
+    exact = _exact_number(delay)
+    if exact is not None:
+        v = times.exact(j) - exact
+        hi = float(v)
+        return hi, float(v - Fraction(hi)), v >= 0
+    moved = _mp_shift(times, j, delay, 40)
+    with workdps(40):
+        hi = float(moved)
+        return hi, float(moved - hi), bool(moved >= 0)
+
+
+def _mp_shift(times: Times, j: int, delay: sp.Expr, digits: int) -> mpmath.mpf:
+    """t_j − τ to ``digits`` significant digits (rounded at that precision): exactly
+    formed for a rational τ, else at the digits the difference cancels besides."""
+    exact = _exact_number(delay)
+    if exact is not None:
+        v = times.exact(j) - exact
+        with workdps(digits):
+            return mpmath.mpf(v.numerator) / v.denominator
+    work = digits + 10
+    while True:
+        with workdps(work):
+            tv = times.mpf(j)
+            tau = mp_value(delay, work)
+            v = tv - tau
+            size = max(abs(tv), abs(tau))
+            lost = int(mpmath.log10(size / abs(v))) + 1 if v != 0 and size > 0 else work
+        if work >= digits + lost + 10 or work >= limits().max_dps:
+            with workdps(digits):
+                return +v
+        work = min(digits + lost + 20, limits().max_dps)
 
 
 def _exact_number(value: sp.Expr) -> Fraction | None:
