@@ -209,3 +209,37 @@ def test_times_within_double_double_reach_of_a_switch(forcing, time, s):
         values, bounds = sol.evaluate([time], derivative=order, return_error=True)
         ref = float(expected[order])
         assert abs(values[0, 0] - ref) <= bounds[0, 0] <= max(1e-13 * abs(ref), 5e-324), (order, ref)
+
+
+# ----------------------------------------------------------------------------- sampled hold
+
+
+@pytest.mark.parametrize(("time", "expected"), [
+    ("0.9999999999999999999999999999", (0.0, 0.0, 0.0)),      # at rest until t = 1
+    ("1.0000000000000000000000001", None),                    # just after: the force 2
+    ("2.99999999999999999999", "before end"),                 # the hold of 2, just before 3
+    ("3.0000000000000000000001", "after end"),                # no force after the data
+])
+def test_a_zero_order_hold_just_before_or_after_a_sample_time(time, expected):
+    """x'' + 4x = the hold of (0, 2, 0) at t = 0, 1, 3, from rest. A time given exactly just
+    before a sample time rounds to it in float64 (hi = t_j, lo < 0): the force was read at
+    hi, x''(1 − 1e-28) came back as 2 with a bound of 2e-14 where it is 0 (and x''(3 − 1e-20)
+    as 2cos 4 − 2 where it is 2cos 4). Reference: x = sin²(t − 1) on [1, 3], then
+    free motion, at 60 digits."""
+    sol = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[[0]], K=[[4]], x0=[0], v0=[0],
+                                          forcing=[ls.sampled([0, 1, 3], [0, 2, 0], kind="zoh")]))
+    with mpmath.workdps(60):
+        t = mpmath.mpf(Fraction(time).numerator) / Fraction(time).denominator
+        if t < 1:
+            ref = [mpmath.mpf(0)] * 3
+        elif t < 3:
+            ref = [mpmath.sin(t - 1) ** 2, mpmath.sin(2 * (t - 1)),  # (1 − cos 2h)/2 = sin²h
+                   2 * mpmath.cos(2 * (t - 1))]
+        else:  # free from the state at 3: x'' = −4x
+            x3, v3 = mpmath.sin(2) ** 2, mpmath.sin(4)
+            x = x3 * mpmath.cos(2 * (t - 3)) + v3 / 2 * mpmath.sin(2 * (t - 3))
+            ref = [x, None, -4 * x]
+    for order in (0, 2):
+        value, bound = (a[0, 0] for a in sol.evaluate([time], derivative=order,
+                                                      return_error=True))
+        assert abs(value - float(ref[order])) <= bound, (time, order, value, float(ref[order]))

@@ -305,18 +305,26 @@ class SampledInput:
 
     def _force(self, hi: np.ndarray, lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The interpolant at hi + lo (float64) and a bound on its error (0 outside the
-        data, where the force is exactly zero)."""
+        data, where the force is exactly zero). A time just before a sample time t_j
+        (hi = t_j, lo < 0) takes the interpolant from the left (a zero-order hold's previous
+        sample; zero before the start), one just after the last (hi = t_end, lo > 0) zero."""
         t, u = self.data.times, self.data.values
-        value = self.data(hi)
+        slopes = self.data.slopes()
+        value = np.array(self.data(hi), dtype=float)
         k = np.clip(np.searchsorted(t, hi, side="right") - 1, 0, t.size - 2)
-        slope = np.abs(self.data.slopes()[k])
+        at = np.clip(np.searchsorted(t, hi), 0, t.size - 1)
+        left = (lo < 0) & (hi == t[at])
+        j = at[left]
+        k[left] = np.maximum(j - 1, 0)
+        value[left] = np.where(j == 0, 0.0, u[k[left]] + slopes[k[left]] * (t[j] - t[k[left]]))
+        right = (lo > 0) & (hi == t[-1])
+        value[right] = 0.0
+        slope = np.abs(slopes[k])
         tau = np.abs(hi - t[k])
         bound = 6 * _EPS * (np.abs(u[k]) + slope * tau) + slope * (np.abs(lo) + _EPS * tau)
-        bound = np.where((hi < t[0]) | (hi > t[-1]), 0.0, bound)
-        # at the end points a lo part may cross from the data into the zero force
-        edge = ((hi == t[0]) & (lo < 0)) | ((hi == t[-1]) & (lo != 0))
-        bound = np.where(edge, bound + np.abs(u[np.where(hi == t[0], 0, -1)]), bound)
-        return value, bound
+        outside = (hi < t[0]) | (hi > t[-1]) | right
+        outside[np.flatnonzero(left)[j == 0]] = True
+        return value, np.where(outside, 0.0, bound)
 
     # -- mpmath ----------------------------------------------------------------------
     def digits(self, times: list[Any], order: int, dps: int) -> list[list[Any]]:
