@@ -418,9 +418,8 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
         field = field.unify(N.domain.get_field())
     denominator = denominator.set_domain(own_field)
     lc = denominator.LC()
-    factors = [(f.set_domain(own_field).monic(), m) for f, m in denominator.factor_list()[1]]
-    if own_field.is_EX:  # irrational entries: SymPy's factor_list over EX leaves a square whole
-        factors = _squarefree(factors)
+    # over EX (irrational entries) SymPy's factor_list leaves a square whole: exact_factors
+    factors = [(f.set_domain(own_field).monic(), m) for f, m in exact_factors(denominator)]
     summed = root_sums and closed_form
     cancelled = check_closed_form(factors, numerators, root_sums=summed) if closed_form else set()
     if field != own_field:

@@ -138,7 +138,7 @@ class TinyData:
         """The values of :meth:`normalized`'s entries rounded to float64 (in their order;
         inf beyond float64's range)."""
         A, B = self._normalized
-        return [_size(v) for v in A.values()], [_size(v) for v in B.values()]
+        return [_as_float(v) for v in A.values()], [_as_float(v) for v in B.values()]
 
     @cached_property
     def _normalized(self) -> tuple[Entries, Entries]:
@@ -214,7 +214,7 @@ def _within(value: Any, most: float) -> bool:
     return bool(1 / high <= abs(value) <= high)
 
 
-def _size(value: Any) -> float:
+def _as_float(value: Any) -> float:
     """value in float64 (±inf beyond its range)."""
     try:
         return float(value)
