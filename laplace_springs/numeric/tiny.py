@@ -398,8 +398,9 @@ class TinyMotion:
 
     def bound_until(self, t_max: float) -> float:
         """An upper bound of :meth:`largest_bound` over the times [0, t_max], from the
-        decomposition's constants alone where it has no 2 x 2 blocks (else inf: ask
-        :meth:`largest_bound`). Decomposes on first use.
+        closed form's or the decomposition's constants alone (float arithmetic, no
+        per-time work); inf where it has 2 x 2 blocks (ask :meth:`largest_bound`).
+        Decomposes on first use.
 
         >>> scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, 0], [0, 0]],
         ...                             K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, 0])
@@ -408,8 +409,7 @@ class TinyMotion:
         >>> bool(motion.largest_bound(t) <= motion.bound_until(1.0) < 1e-13)
         True
         """
-        form = self.form
-        return math.inf if isinstance(form, _Scalar) else form.bound_until(t_max)
+        return self.form.bound_until(t_max)
 
     @property
     def spectral_radius(self) -> float:
@@ -434,6 +434,12 @@ def _sqrt_dd(value: Any) -> tuple[float, float]:
     hi = math.sqrt(float(value))
     exact = fmpq(*hi.as_integer_ratio())
     return hi, float((value - exact * exact) / (2 * exact))
+
+
+def _exp_at_most(rate: float, t_max: float) -> float:
+    """max over t in [0, t_max] of e^{rate·t}, rounded up (inf beyond float64)."""
+    exponent = max(rate, 0.0) * t_max
+    return math.exp(exponent) * (1 + 1e-15) if exponent < 709 else math.inf
 
 
 #: Relative error of e^{λt} per unit |λ|·t: λ rounded (≤ 6.3u for the roots of the
@@ -496,6 +502,56 @@ class _Scalar:
         bound = (abs(p) * _SAFETY) * err_C + (abs(w) * _SAFETY) * err_S \
             + 1e-300 * (abs(p) + abs(w) * (1 + t))
         return values[None, :], bound[None, :]
+
+    def bound_until(self, t_max: float) -> float:
+        """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
+        [0, t_max], in float arithmetic: each branch's bound with every per-time factor at
+        its largest over [0, t_max] (the error terms ε(t), min(t, 1/ω), t, cosh and
+        sinh(x)/x are nondecreasing; each exponential e^{rt} is at most e^{max(r, 0)·t_max});
+        inf where an exponential would overflow.
+
+        >>> data = tiny_data(Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[1], v0=[0]))
+        >>> scalar = _Scalar(data)
+        >>> t = np.linspace(0.0, 3.0, 301)
+        >>> bool(scalar.evaluate(t, None, 0)[1].max() <= scalar.bound_until(3.0) < 1e-14)
+        True
+        """
+        T = t_max
+        if not T < 1e300:
+            return math.inf
+        p, w = (abs(v) for v in self.data[0])
+        E = _exp_at_most(self.alpha, T)
+        if self.sign < 0:
+            omega = self.omega[0]
+            eps = 11 * U + T * ((_EXP_SLOPE * abs(self.alpha) + 8 * U * U * omega)
+                                + 2 * (U * omega) ** 2 * T)
+            err_C, err_S = E * eps, E * (eps + 2 * U) * min(T, 1 / omega)
+        elif self.sign == 0:
+            eps = 5 * U + _EXP_SLOPE * abs(self.alpha) * T
+            err_C, err_S = E * eps, T * E * (eps + U)
+        else:
+            err_C, err_S = self._over_until(T, E)
+        found = p * _SAFETY * err_C + w * _SAFETY * err_S + 1e-300 * (p + w * (1 + T))
+        return found * (1 + 1e-12)  # this sum's own rounding
+
+    def _over_until(self, T: float, E: float) -> tuple[float, float]:
+        """The largest err_C and err_S of :meth:`_over` over [0, T]: the sum of both
+        branches' (cosh and sinh(x)/x of x ≤ 1/2 where √D·t < 1/2; e^{λ₊t}, e^{λ₋t} at
+        their largest beyond)."""
+        s = self.root
+        h = min(s * T, 0.5)
+        eps = 13 * U + _EXP_SLOPE * abs(self.alpha) * T
+        C, S = E * math.cosh(h), E * T * (math.sinh(h) / h if h > 0 else 1.0)
+        err_C, err_S = C * eps, S * (eps + U)
+        if s * T >= 0.5:
+            up, down = self.rates
+            E1, E2 = _exp_at_most(up, T), _exp_at_most(down, T)
+            absolute = E1 * (2 * U + _EXP_SLOPE * abs(up) * T) \
+                + E2 * (2 * U + _EXP_SLOPE * abs(down) * T)
+            C, S = (E1 + E2) / 2, (E1 + E2) / (2 * s)
+            err_C += absolute / 2 + 4 * U * C
+            err_S += absolute / (2 * s) + 7 * U * S
+        return err_C, err_S
 
     def _under(self, t: np.ndarray, lo: np.ndarray | None) -> tuple[np.ndarray, ...]:
         """D < 0: C = e^{αt} cos ωt and S = e^{αt} sin(ωt)/ω with ωt in double-double: the

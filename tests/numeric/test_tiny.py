@@ -260,8 +260,32 @@ def test_the_bound_until_a_time_leaves_2x2_blocks_to_the_times() -> None:
     for name in ("exceptional point", "critical pair"):
         motion = tiny_motion(SEVERAL[name][0])
         assert motion.form.doubles and motion.bound_until(1.0) == np.inf
-    one_mass = tiny_motion(Scene.from_matrices(M=[[1]], C=[[1]], K=[[4]], x0=[1], v0=[0]))
-    assert one_mass.bound_until(1.0) == np.inf
+
+
+@pytest.mark.parametrize(("c", "k", "x0", "v0"), [
+    ("1/10", "4", "1", "0"),        # under-damped
+    ("0", "1", "1", "-3"),          # undamped
+    ("2", "1", "1", "1"),           # critical
+    ("0", "0", "1", "2"),           # a free mass (D = 0, α = 0: x = x0 + v0 t)
+    ("2.0000001", "1", "1", "0"),   # over-damped, √D·t < 1/2 on [0, 50]
+    ("1000", "1", "-2", "5"),       # over-damped, both branches
+    ("-1/5", "3", "1", "0"),        # negative damping: a growing motion
+])
+def test_the_bound_until_a_time_of_one_mass_covers_its_bounds_and_errors(
+        c: str, k: str, x0: str, v0: str) -> None:
+    """One coordinate's ``bound_until`` (float constants of the closed form) is at least
+    every bound the engine gives on [0, t_max] (a dense grid) and the true error (arb)."""
+    scene = Scene.from_matrices(M=[[1]], C=[[c]], K=[[k]], x0=[x0], v0=[v0])
+    motion = tiny_motion(scene)
+    for t_max in (0.5, 1.0, 50.0):
+        envelope = motion.bound_until(t_max)
+        assert envelope < np.inf
+        grid = np.linspace(0.0, t_max, 2001)
+        assert motion.largest_bound(grid) <= envelope
+    times = [0.0, 0.125, 0.5, 1.0, 37.0, 50.0]
+    values, _ = motion.evaluate(as_times(times), 0)
+    errors = _errors(values, reference_motion_arb(scene, times, digits=30))
+    assert errors.max() <= motion.bound_until(50.0)
 
 
 # ----------------------------------------------------------------------------- contract details
