@@ -27,7 +27,8 @@ never evaluated.
 What is refused, with the statement and the reason: a term that is not linear in the
 unknowns (``x1**2``, ``sin(x1)``, ``x1*x2``), a coefficient that depends on t
 (``t*x1``), a third derivative, a coordinate without an equation (or more equations than
-coordinates), a missing or repeated initial condition, an initial value of x''. The
+coordinates), a missing or repeated initial condition, an initial value of x'', a value for a
+name whose meaning in text is fixed (``t``, ``pi``, ``E``, ``I``, ``nan``, a function). The
 right-hand side (everything free of the unknowns) is the force f(t), which must be of the
 forcing class (:mod:`laplace_springs.model.forcing`).
 
@@ -60,7 +61,15 @@ from sympy.core.function import AppliedUndef
 
 from ..limits import limits
 from .errors import LimitError, SceneError
-from .numbers import ALLOWED_FUNCTIONS, declare_parameters, parse_expression, shown, to_exact
+from .numbers import (
+    ALLOWED_FUNCTIONS,
+    CONSTANTS,
+    NOT_FINITE_REAL,
+    declare_parameters,
+    parse_expression,
+    shown,
+    to_exact,
+)
 from .periodic import PERIODIC_FUNCTIONS
 from .symbols import TIME
 
@@ -202,15 +211,27 @@ class _Unknowns:
         expr = expr.xreplace(replacement)
         return expr.xreplace({f(TIME): self.at(name, 0) for f, name in by_function.items()})
 
-    def differentiate(self, value: sp.Expr, variable: sp.Expr = TIME, order: Any = 1) -> sp.Expr:
-        """d^order value / dt^order for ``Derivative``, ``diff`` and ``.diff``."""
-        if variable != TIME:
-            raise SceneError(f"derivatives are taken in t, got {variable}")
-        if not (isinstance(order, sp.Integer) and 1 <= order <= _MAX_ORDER):
+    def differentiate(self, value: sp.Expr, *spec: Any) -> sp.Expr:
+        """d^k value / dt^k for ``Derivative``, ``diff`` and ``.diff``, with SymPy's ways of
+        writing the order: ``(t)`` or nothing (first), ``(t, 2)`` and ``(t, t)`` (second)."""
+        order = 0
+        items = list(spec) or [TIME]
+        while items:
+            variable = items.pop(0)
+            if variable != TIME:
+                raise SceneError(f"derivatives are taken in t, got {self.shown(variable)}")
+            count: Any = sp.S.One
+            if items and items[0] != TIME and not isinstance(items[0], sp.Symbol):
+                count = items.pop(0)
+            if not (isinstance(count, sp.Integer) and 1 <= count <= _MAX_ORDER):
+                raise SceneError(f"the order of a derivative must be 1 .. {_MAX_ORDER}, got "
+                                 f"{self.shown(count)}")
+            order += int(count)
+        if order > _MAX_ORDER:
             raise SceneError(f"the order of a derivative must be 1 .. {_MAX_ORDER}, got {order}")
         if self.has_initial(value):
             raise SceneError("the derivative of an initial value x(0) is 0: write x'(0)")
-        return self.from_functions(sp.diff(self.to_functions(value), TIME, int(order)))
+        return self.from_functions(sp.diff(self.to_functions(value), TIME, order))
 
 
 def _written(name: str, order: int, initial: bool = False) -> str:
@@ -274,11 +295,14 @@ def _text_statements(text: str) -> tuple[list[str], list[str]]:
     declared: list[str] = []
     lines = []
     for line in text.splitlines():
-        match = _DECLARATION.match(line)
-        if match:
-            declared += [name.strip() for name in match.group(1).split(",") if name.strip()]
-        else:
-            lines.append(line)
+        kept = []
+        for piece in line.split(";"):  # a declaration is a statement: on its line or between ';'
+            match = _DECLARATION.match(piece)
+            if match:
+                declared += [name.strip() for name in match.group(1).split(",") if name.strip()]
+            else:
+                kept.append(piece)
+        lines.append(";".join(kept))
     return declared, _split_top_level("\n".join(lines))
 
 
@@ -320,6 +344,14 @@ class _TextReader:
                                 allowed_functions=self.functions, variables=self.variables,
                                 expected="an expression in t and the unknowns", unknowns=self.builders)
 
+    def mentions_unknowns(self, text: str, statement: str) -> bool:
+        """Whether ``text`` reads as an expression in the unknowns (x, x'(0), ...)."""
+        try:
+            value = self.side(text, statement)
+        except SceneError:
+            return False  # not an expression in the unknowns: read as a value, which says why
+        return self.unknowns.has_motion(value) or self.unknowns.has_initial(value)
+
     def statement(self, statement: str) -> _Statement | None:
         """An equation or initial condition; None for a value ``k1 = 400`` (stored) and for
         a label ``eqn1`` of an equation already read (the seed's ``{eqn1, eqn2, ...}``)."""
@@ -330,8 +362,10 @@ class _TextReader:
             self.labels.add(label)
         left, right = _sides(statement)
         definition = _DEFINITION.match(left)
-        if definition and definition.group(1) not in self.unknowns.names and definition.group(1) != "t":
+        if definition and definition.group(1) not in self.unknowns.names \
+                and not self.mentions_unknowns(right, statement):  # t = x'' + x is an equation
             name = definition.group(1)
+            _check_value_name(name, statement)
             if name in self.variables and isinstance(self.variables[name], sp.Symbol):
                 raise SceneError(f"{shown(statement)}: {name!r} is a declared parameter; give it a "
                                  "value or declare it, not both")
@@ -341,6 +375,24 @@ class _TextReader:
             return None
         lhs, rhs = self.side(left, statement), self.side(right, statement)
         return _Statement(sp.expand(lhs - rhs), statement, lhs, rhs)
+
+
+def _check_value_name(name: str, statement: str) -> None:
+    """Refuse a value ``name = ...`` for a name whose meaning in text is fixed: the time t,
+    a function, the constants pi and E, and the names of numbers that are not finite and
+    real (I, nan, ...): ``pi = 3`` would silently change every later pi."""
+    if name == "t":
+        meaning = "the time"
+    elif name in ALLOWED_FUNCTIONS or name in PERIODIC_FUNCTIONS:
+        meaning = f"the function {name}(...)"
+    elif name in CONSTANTS:
+        meaning = f"the constant {CONSTANTS[name]}"
+    elif name.lower() in NOT_FINITE_REAL:
+        meaning = "a number that is not finite and real"
+    else:
+        return
+    raise SceneError(f"{shown(statement)}: {name!r} cannot be given a value: in text it is "
+                     f"{meaning}; rename it, e.g. '{name}_0'")
 
 
 def _unknown_names(text: str, excluded: Iterable[str]) -> list[str]:
@@ -460,7 +512,12 @@ def _row(statement: _Statement, unknowns: _Unknowns) -> _Row:
             raise SceneError(f"equation {shown(statement.source)}: the coefficient {coefficient} of "
                              f"{_written(name, order)} depends on t; only constant coefficients are solved")
         coefficients[name, order] = coefficients.get((name, order), sp.S.Zero) + coefficient
-    return _Row(coefficients, -sp.Add(*rest), statement.source)
+    where = f"equation {shown(statement.source)}"
+    for (name, order), coefficient in coefficients.items():  # each within the limits of a number
+        coefficients[name, order] = to_exact(coefficient, f"{where}: the coefficient of {_written(name, order)}")
+    force = -sp.Add(*rest)
+    return _Row(coefficients, to_exact(force, f"{where}: the force") if force != 0 else force,
+                statement.source)
 
 
 def _order_coordinates(rows: list[_Row], unknowns: _Unknowns,

@@ -577,7 +577,10 @@ def _parse_text(
         raise SceneError(
             f"{entry}: expected {expected}, got {_shorten(text)}: {exc.reason} at column {exc.column}{hint}"
         ) from None
-    return _require_bounded(_require_finite(value, entry, text), entry, _shorten(text)), column
+    finite = _require_finite(value, entry, text)
+    # with unknowns, the size of each coefficient is checked where the equation is split
+    # (laplace_springs.model.equations): a side such as 1e300*x + 1e300*x' has no one size
+    return _require_bounded(finite, entry, _shorten(text), check_size=unknowns is None), column
 
 
 def _undeclared(name: str, variables: Mapping[str, sympy.Expr]) -> str:
@@ -636,12 +639,15 @@ def _order(number: sympy.Expr) -> str:
     return f"about 1e{round(bits * math.log10(2)):+d}"
 
 
-def _require_bounded(value: sympy.Expr, entry: str, shown_value: str) -> sympy.Expr:
-    """``value`` unless a number in it exceeds :attr:`~laplace_springs.limits.Limits.max_digits` or :data:`MAX_MAGNITUDE`."""
+def _require_bounded(value: sympy.Expr, entry: str, shown_value: str, check_size: bool = True) -> sympy.Expr:
+    """``value`` unless a number in it exceeds :attr:`~laplace_springs.limits.Limits.max_digits` or
+    (with ``check_size``) its size is beyond :data:`MAX_MAGNITUDE`."""
     for rational in value.atoms(sympy.Rational):
         if not _digits_ok(rational):
             raise SceneError(f"{entry}: {shown_value} has a number of more than {limits().max_digits} digits "
                              f"(the limit Limits.max_digits)")
+    if not check_size:
+        return value
     if value.is_Rational and value != 0 and 1 / MAX_MAGNITUDE <= abs(value) <= MAX_MAGNITUDE:
         return value
     try:
