@@ -2,7 +2,9 @@
 
 A time given as a float is the number that float holds (``0.1`` is
 0.1000000000000000055511151231257827…), exactly as float arithmetic would use it; a
-string (``"0.1"``), a :class:`fractions.Fraction` or a SymPy rational is used exactly.
+string (``"0.1"``), a :class:`fractions.Fraction` or a SymPy rational is used exactly; an
+irrational one (``"pi/8"``, ``"sqrt(2)"``, ``sympy.E``) as a rational within
+10^-(Limits.max_dps + 700) of it, closer than any ``dps`` can tell.
 Every route reads the same value: the float64 kernels as a double-double
 (``hi + lo``), the high-precision ones as an exact rational. A value therefore never
 depends on the route that evaluates it, even at phases ωt of 10³⁰.
@@ -22,7 +24,6 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown, to_exact
@@ -96,10 +97,27 @@ def _exact(value: object) -> Fraction:
         return Fraction(-man if sign else man) * Fraction(2) ** exp
     if isinstance(value, sp.Rational):
         return Fraction(int(value.p), int(value.q))
-    if isinstance(value, sp.Basic):  # an irrational number: 120 digits of it
-        with workdps(120):
-            return _exact(mpmath.mpf(sp.Float(value, 120)._mpf_))
+    if isinstance(value, sp.Basic):  # an irrational number (as_times converts them at once)
+        return _irrational(value)
     raise TypeError(value)
+
+
+#: Digits of an irrational time beyond Limits.max_dps: the time's rational stand-in is then
+#: within 10^-(max_dps + 700) of it, so even a phase ωt with ω and t up to 1e300 (the
+#: limits of an entry and of a time) is off by less than 10^-(max_dps + 100).
+_IRRATIONAL_GUARD_DIGITS = 700
+
+
+def _irrational(value: sp.Basic, entry: str = "a time") -> Fraction:
+    """An irrational time (``pi``, ``sqrt(2)``, ``pi/8``) as a rational close enough for every
+    precision ``evaluate`` takes (:data:`_IRRATIONAL_GUARD_DIGITS`); a ValueError if SymPy
+    cannot evaluate it."""
+    digits = limits().max_dps + _IRRATIONAL_GUARD_DIGITS
+    number = sp.N(value, digits, maxn=4 * digits)
+    if not number.is_Float:
+        raise ValueError(f"{entry} = {shown(value)} is not a real number SymPy can evaluate")
+    sign, mantissa, exponent, _ = number._mpf_
+    return Fraction(-mantissa if sign else mantissa) * Fraction(2) ** exponent
 
 
 def _convert(value: object, index: int) -> object:
@@ -116,6 +134,8 @@ def _convert(value: object, index: int) -> object:
             raise ValueError(f"times[{index}] must be a real number, got {value!r}")
         if value.is_Float:
             value = sp.Rational(value)
+        elif not value.is_Rational:
+            value = _irrational(value, f"times[{index}]")
     elif isinstance(value, mpmath.mpf):
         if not mpmath.isfinite(value):
             raise ValueError(f"times[{index}] must be finite, got {value}")
