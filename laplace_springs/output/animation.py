@@ -40,6 +40,7 @@ from ..model.errors import SceneError
 from ..model.names import coordinate_index
 from ..model.scene import Scene
 from ..model.symbols import TIME
+from ..model.units import axis_label
 from .chain import Chain, chain_of, math_label
 from .diagram import MAX_SHIFT, Diagram, build_diagram, orientation_of
 from .plots import Motion, default_t_end
@@ -391,7 +392,7 @@ def animate(solution: Motion, *, t_end: float | None = None, duration: float | N
         low, high = diagram_ax.get_ylim()
         diagram_ax.set_ylim(low, high + 0.5)
     readout = _readout(diagram_ax if curve_ax is None else curve_ax)
-    lines = _curves(curve_ax, fine, values, chain) if curve_ax is not None else []
+    lines = _curves(curve_ax, fine, values, chain, scene) if curve_ax is not None else []
     movie = SceneAnimation(figure, diagram, times, positions, supports, chosen, scale, fps,
                            (fine, step, lines), readout, values)
     movie.frame(0)
@@ -454,8 +455,10 @@ def _figure(orientation: str, curves: bool, figsize: tuple[float, float] | None)
     return figure, left, right
 
 
-def _curves(ax: Any, times: np.ndarray, positions: np.ndarray, chain: Chain) -> list[tuple[Any, Any]]:
-    """The x(t) curves' axes: full extent, faint guides, and the lines drawn frame by frame."""
+def _curves(ax: Any, times: np.ndarray, positions: np.ndarray, chain: Chain,
+            scene: Scene | None = None) -> list[tuple[Any, Any]]:
+    """The x(t) curves' axes: full extent, faint guides, and the lines drawn frame by frame; the
+    axes say the scene's units, or none for a scene written without units."""
     lines = []
     for row, name in zip(positions, chain.coordinates):
         (guide,) = ax.plot(times, row, linewidth=1.0, alpha=0.25)
@@ -465,8 +468,8 @@ def _curves(ax: Any, times: np.ndarray, positions: np.ndarray, chain: Chain) -> 
         lines.append((line, dot))
     ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.set_xlim(times[0], times[-1])
-    ax.set_xlabel("Time (s)")
-    ax.set_ylabel("Position (m)")
+    ax.set_xlabel(axis_label("time", scene))
+    ax.set_ylabel(axis_label("position", scene))
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", framealpha=0.85, fontsize="small",
               ncols=2 if len(lines) > 6 else 1)

@@ -19,7 +19,7 @@ form: its page gives the modal summary instead of the formulas.
 from __future__ import annotations
 
 import io
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -132,6 +132,23 @@ def _signed_terms(terms: list[tuple[sp.Expr, str]]) -> str:
     return out or "0"
 
 
+def _latex_sum(terms: Sequence[str]) -> str:
+    r"""LaTeX terms joined by their signs: ``a - b``, never ``a + -b``.
+
+    >>> _latex_sum([r"\frac{1}{2}", r"- \frac{1}{3}", "x"])
+    '\\frac{1}{2} - \\frac{1}{3} + x'
+    """
+    out = ""
+    for term in terms:
+        if not out:
+            out = term
+        elif term.startswith("-"):
+            out += " - " + term[1:].lstrip()
+        else:
+            out += " + " + term
+    return out
+
+
 def _equations(scene: Scene) -> str:
     """The scalar equations of motion, one row per coordinate, in the order M, C, K:
     Σ_j M_ij ẍ_j + C_ij ẋ_j + K_ij x_j = f_i."""
@@ -203,7 +220,7 @@ def _partial_fractions(scene: Scene) -> Section | None:
         parts = [group.as_expr() for group in pf.groups]
         if pf.polynomial.as_expr() != 0:
             parts.insert(0, pf.polynomial.as_expr())
-        shown = " + ".join(sp.latex(sp.factor(part)) for part in parts)
+        shown = _latex_sum([sp.latex(sp.factor(part)) for part in parts])
         rows.append(f"X_{{{latex_symbol(name).split('_', 1)[-1].strip('{}')}}}(\\lambda) &= {shown}")
     if not factored:
         return Section("partial-fractions", "Partial fractions",

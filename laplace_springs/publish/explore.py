@@ -29,6 +29,7 @@ import numpy as np
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
+from ..model.units import axis_label
 from ..output.chain import latex_symbol, math_label
 from ..output.diagram import MAX_SHIFT, Diagram, build_diagram
 from ..output.plots import default_t_end
@@ -215,7 +216,7 @@ class Explorer:
                                               target=limits().explore_target)
         self.positions = x[0]
         self.closed_form = closed_form_latex(self.compiled, rows[0], roots[0], self.scene.names)
-        self._plot.value = _curves_svg(self.times, self.positions, self.scene.names)
+        self._plot.value = _curves_svg(self.times, self.positions, self.scene.names, self.scene)
         self._formula.value = "$$\\begin{aligned}" + self.closed_form + "\\end{aligned}$$"
         if self.diagram is not None:
             self._picture.value = self._diagram_svg(values)
@@ -242,9 +243,10 @@ class Explorer:
         return diagram_svg(self.diagram, width=width)
 
 
-def _curves_svg(times: np.ndarray, positions: np.ndarray, names: Sequence[str],
+def _curves_svg(times: np.ndarray, positions: np.ndarray, names: Sequence[str], scene: Scene | None = None,
                 width: int = 680, height: int = 260) -> str:
-    """x(t) as an SVG plot with an axis frame, a zero line and tick labels."""
+    """x(t) as an SVG plot with an axis frame, a zero line and tick labels (the time axis in the
+    scene's unit, none for a scene written without units)."""
     left, right, top, bottom = 60, 12, 10, 34
     inner_w, inner_h = width - left - right, height - top - bottom
     low, high = float(np.min(positions)), float(np.max(positions))
@@ -261,7 +263,8 @@ def _curves_svg(times: np.ndarray, positions: np.ndarray, names: Sequence[str],
     for value in nice_ticks(0.0, t_end):
         parts.append(f'<text x="{left + inner_w * value / t_end:.1f}" y="{height - bottom + 14}" '
                      f'text-anchor="middle">{value:.3g}</text>')
-    parts.append(f'<text x="{left + inner_w / 2}" y="{height - 4}" text-anchor="middle">Time (s)</text>')
+    time_label = html.escape(axis_label("time", scene))
+    parts.append(f'<text x="{left + inner_w / 2}" y="{height - 4}" text-anchor="middle">{time_label}</text>')
     if low < 0 < high:
         y0 = top + inner_h * high / (high - low)
         parts.append(f'<line x1="{left}" x2="{left + inner_w}" y1="{y0:.1f}" y2="{y0:.1f}" stroke="#aaa"/>')

@@ -32,6 +32,7 @@ from .._version import __version__
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
+from ..model.units import axis_label
 from ..output.animation import animate
 from ..solution import Solution
 from .content import Section, page_t_end, sections
@@ -234,8 +235,9 @@ def nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
     return [float(round(k * step, 12)) for k in range(first, last + 1)]
 
 
-def _svg_plot(grid: SliderGrid) -> tuple[str, dict[str, float]]:
-    """The sliders' plot: axes, ticks and one empty polyline per coordinate (JavaScript fills them)."""
+def _svg_plot(grid: SliderGrid, scene: Scene) -> tuple[str, dict[str, float]]:
+    """The sliders' plot: axes, ticks and one empty polyline per coordinate (JavaScript fills them);
+    the axes say the scene's units, or none for a scene written without units."""
     low, high = float(np.min(grid.values)), float(np.max(grid.values))
     pad = 0.05 * (high - low or 1.0)
     low, high = low - pad, high + pad
@@ -257,9 +259,10 @@ def _svg_plot(grid: SliderGrid) -> tuple[str, dict[str, float]]:
         parts.append(f'<text x="{_LEFT - 6}" y="{y(value) + 4:.1f}" text-anchor="end">{value:g}</text>')
     for value in nice_ticks(0.0, t_end):
         parts.append(f'<text x="{x(value):.1f}" y="{_HEIGHT - _BOTTOM + 15}" text-anchor="middle">{value:g}</text>')
-    parts.append(f'<text x="{_LEFT + inner_w / 2}" y="{_HEIGHT - 6}" text-anchor="middle">Time (s)</text>')
+    time_label, position_label = (html.escape(axis_label(q, scene)) for q in ("time", "position"))
+    parts.append(f'<text x="{_LEFT + inner_w / 2}" y="{_HEIGHT - 6}" text-anchor="middle">{time_label}</text>')
     parts.append(f'<text transform="translate(14,{_TOP + inner_h / 2}) rotate(-90)" '
-                 'text-anchor="middle">Position (m)</text>')
+                 f'text-anchor="middle">{position_label}</text>')
     if low < 0 < high:
         parts.append(f'<line x1="{_LEFT}" x2="{_LEFT + inner_w}" y1="{y(0):.1f}" y2="{y(0):.1f}" stroke="#999"/>')
     for i, name in enumerate(grid.names):
@@ -315,7 +318,7 @@ def _sliders_html(example: WorkedExample) -> str:
         rows.append(f'<div><label for="ls-knob-{a}">\\({html.escape(knob.label)}\\)</label>'
                     f'<input type="range" id="ls-knob-{a}" min="0" max="{len(axis) - 1}" step="1" '
                     f'value="{start[a]}"><output id="ls-knob-value-{a}"></output></div>')
-    svg, geometry = _svg_plot(grid)
+    svg, geometry = _svg_plot(grid, example.scene)
     data = {"knobs": [{"name": k.name, "values": [float(v) for v in axis]} for k, axis in zip(grid.knobs, grid.axes)],
             "n": len(grid.names), "times": [float(t) for t in grid.times], "geometry": geometry,
             "values": grid.encoded()}
