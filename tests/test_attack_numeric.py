@@ -313,3 +313,28 @@ def test_times_of_1e_300_of_a_system_driven_from_rest_are_served(order):
     times = [1e-300, 1e-250, 1e-30]
     values, bounds = ls.solve(scene).evaluate(times, return_error=True, derivative=order)
     assert_bounded(values, bounds, shaken_motion(times, order))
+
+
+def test_a_value_beyond_float64_is_an_overflow_with_the_digits_way_out() -> None:
+    """Four masses with non-symmetric damping and a pole at 7.45: x(150) is about 6e484.
+    The certified and exact routes gave value 0 with an infinite bound for it (their float64
+    pole sums overflow to inf − inf), which the executor kept over the escalation's ±inf,
+    so evaluate said no engine could bound it (a LimitError) where it is an OverflowError
+    whose message names dps=; the digits are the arb reference's."""
+    M = [["86/77", 0, 0, 0], [0, "24/49", 0, 0], [0, 0, "97/96", 0], [0, 0, 0, "32/45"]]
+    C = [["13/6200", 0, 0, "-74/3"], [0, 0, "47/81", 0], ["-91/48", 0, 0, "-6/5"],
+         [0, 0, "-51/5", 0]]
+    K = [["383/30", "-1/10", 0, 0], ["-1/10", "263/30", "-26/3", 0],
+         [0, "-26/3", "114/7", "-160/21"], [0, 0, "-160/21", "16475/798"]]
+    scene = ls.Scene.from_matrices(M=M, C=C, K=K, x0=["-1/2", 4, "4/3", 4],
+                                   v0=["-4/3", "4/3", "-1/2", 5])
+    for method in ("auto", "certified", "exact", "modal"):
+        with pytest.raises(OverflowError, match=r"t = 150.0 is beyond the float64 range; "
+                                                r"evaluate\(\.\.\., dps=30\)"):
+            ls.solve(scene, method=method).evaluate([1.0, 150.0])
+    digits = ls.solve(scene).evaluate([150.0], dps=20)
+    reference = motion(scene, [150])
+    with mpmath.workdps(40):
+        for i in range(4):
+            exact = mpmath.mpf(reference[i][0].mid().str(35, radius=False))
+            assert abs(digits[i, 0] - exact) <= mpmath.mpf("1e-18") * abs(exact)

@@ -39,8 +39,8 @@ fastest at this accuracy
 from __future__ import annotations
 
 import csv
-import gc
 import fnmatch
+import gc
 import signal
 import sys
 import threading

@@ -391,6 +391,12 @@ def certified_values(poles: CertifiedPoles, times: Times, order: int, target: fl
             done = np.all(rads <= target * scale[None, :], axis=0) & finite
             better = finite & (np.max(rads, axis=0) <= np.max(bounds[:, pending], axis=0))
         values[:, pending[better]], bounds[:, pending[better]] = mids[:, better], rads[:, better]
+        # a midpoint beyond float64 (and no finite value yet): kept as ±inf with an infinite
+        # bound, so the caller says the value is beyond float64 (dps= gives it) rather
+        # than that no engine could bound it
+        beyond = ~finite & np.isinf(mids).any(axis=0) & ~np.isnan(mids).any(axis=0) \
+            & np.isinf(bounds[:, pending]).all(axis=0)
+        values[:, pending[beyond]] = mids[:, beyond]
         pending = pending[~done]
         bits *= 2
     return values, bounds

@@ -252,8 +252,12 @@ class _Kept:
         with np.errstate(invalid="ignore"):
             old_worst = self.bounds[:, chunk].max(axis=0)
             new_worst = np.where(finite, new_bounds, np.inf).max(axis=0)
+            # a value beyond float64 (±inf, no NaN) replaces one that has no bound: the
+            # caller then says so (dps= gives it) instead of that no engine bounded it
+            beyond = np.isinf(new).any(axis=0) & ~np.isnan(new).any(axis=0) \
+                & (old_worst == np.inf)
             take = ~(new_worst >= old_worst) & finite.all(axis=0) \
-                | np.isnan(self.values[:, chunk]).any(axis=0)
+                | np.isnan(self.values[:, chunk]).any(axis=0) | beyond
         columns = chunk[take]
         self.values[:, columns] = new[:, take]
         self.bounds[:, columns] = new_bounds[:, take]
