@@ -166,7 +166,6 @@ def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int],
     entries within the default Limits.tiny_max_magnitude^{±1} = 1e±100; below it the loss
     is under 2⁻¹⁰⁷⁴, far below u·‖Z‖."""
     size = 2 * n
-    places = [(n + i, j) for i, j in A] + [(n + i, n + j) for i, j in B]
     exact = [*A.values(), *B.values()]
     high = [float(value) for value in exact] if floats is None else [*floats[0], *floats[1]]
     stiff = len(A)
@@ -174,20 +173,24 @@ def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int],
     damping = max(map(abs, high[stiff:]), default=0.0)
     scale = max(math.sqrt(largest), damping / 2)
     sigma = 2.0 ** round(math.log2(scale)) if 0 < scale < math.inf else 1.0
-    factors = [-1 / sigma] * stiff + [-1.0] * (len(exact) - stiff)
-    hi = [[0.0] * size for _ in range(size)]
+    # row-major entries of Z (and of its low parts where an entry is not a float64 number)
+    hi = [0.0] * (size * size)
     for i in range(n):
-        hi[i][n + i] = sigma
-    lo: list[list[float]] | None = None
-    for (i, j), value, rounded, factor in zip(places, exact, high, factors):
-        hi[i][j] = rounded * factor
+        hi[i * size + n + i] = sigma
+    lo: list[float] | None = None
+    squares = n * sigma * sigma
+    places = [(n + i) * size + j for i, j in A] + [(n + i) * size + n + j for i, j in B]
+    factors = [-1 / sigma] * stiff + [-1.0] * (len(exact) - stiff)
+    for place, value, rounded, factor in zip(places, exact, high, factors):
+        entry = hi[place] = rounded * factor
+        squares += entry * entry
         if value.q != 1:
             low = value - fmpq(*rounded.as_integer_ratio())
             if low:
-                lo = lo or [[0.0] * size for _ in range(size)]
-                lo[i][j] = float(low) * factor
-    norm = math.sqrt(n * sigma * sigma + sum(row[j] * row[j] for row in hi[n:] for j in range(size)))
-    return sigma, np.array(hi), None if lo is None else np.array(lo), norm
+                lo = lo or [0.0] * (size * size)
+                lo[place] = float(low) * factor
+    return (sigma, np.array(hi).reshape(size, size),
+            None if lo is None else np.array(lo).reshape(size, size), math.sqrt(squares))
 
 
 class _Block:
