@@ -503,15 +503,18 @@ class BlockMotion:
     def bound_until(self, t_max: float) -> float:
         """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
         [0, t_max], from the decomposition's constants alone (no per-time work: a few
-        float operations where :meth:`bounds` makes a dozen NumPy calls).
+        float operations where :meth:`bounds` makes a dozen NumPy calls or more).
 
         Each per-time factor of :meth:`_bounds` is nondecreasing or bounded by its value at
         0 or t_max (e^{gt} ≤ max(1, e^{g·t_max})), and each row's weights are bounded by
-        norms: ‖L_i‖ ≤ ‖X‖_F and Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖. With 2 x 2 blocks (their
-        factors are bounded per time only) or a failed decomposition it is inf.
+        norms: ‖L_i‖ ≤ ‖X‖_F and Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖ (so a 2 x 2 block's
+        |L_b c_b| and |L_b N c_b| sum to at most 2‖X‖‖c‖ and 2‖X‖ν‖c‖, ν its largest ‖N‖).
+        Inf for a failed decomposition or where an exponential would overflow.
         """
-        if self.failure is not None or self.doubles:
+        if self.failure is not None or not t_max < 1e300:
             return math.inf
+        if self.doubles:
+            return self._blocks_until(t_max) * (1 + 1e-12)
         exponent = max(self.growth + self.phi, 0.0) * t_max
         if exponent > 700:
             return math.inf
@@ -522,6 +525,31 @@ class BlockMotion:
         found = rows * G * (self.phi * self.c_norm * t_max + self.rho0) \
             + size * (decay * shift * _SAFETY + 1e-300 * (1 + t_max))
         return found * (1 + 1e-12)  # this sum's own rounding
+
+    def _blocks_until(self, T: float) -> float:
+        """:meth:`bound_until` with 2 x 2 blocks: :meth:`_bounds`' terms for each coordinate
+        at t = T, with e^{gt} at its largest on [0, T] (the weights of x, which
+        :meth:`evaluate` uses too, read as floats)."""
+        K, nu = self._growth_constants
+        largest = self._largest_root
+        q = min(K, 1 + nu * T)
+        exponent = max(self.growth, 0.0) * T + q * self.phi * T
+        if exponent > 700 or largest * T > 700:
+            return math.inf
+        decay = math.exp(max(self.growth, 0.0) * T)
+        spread = math.exp(exponent)
+        integral = T * min(q * q, 1 + nu * T + (nu * T) ** 2 / 6)
+        shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * T
+        rounding = decay * (shift + (2 * largest * T + 4) * U)
+        squared = decay * T * T
+        main = spread * (self.phi * self.c_norm * integral + q * self.rho0)
+        w = self._order(0)
+        columns = zip(w.rows.tolist(), (w.single_size + w.double_C).tolist(),
+                      w.double_S.tolist(), w.d_C.tolist(), w.d_S.tolist(), w.size.tolist())
+        return max((rows * main + near * rounding + far * rounding * T + d_C * squared / 2
+                    + d_S * squared * T * math.cosh(largest * T) / 4) * _SAFETY
+                   + size * 1e-300 * (1 + T)
+                   for rows, near, far, d_C, d_S, size in columns)
 
     def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
         """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""

@@ -256,10 +256,21 @@ def test_the_bound_until_a_time_covers_every_bound_and_error_before_it(seed: int
     assert errors.max() <= motion.bound_until(1.0)
 
 
-def test_the_bound_until_a_time_leaves_2x2_blocks_to_the_times() -> None:
-    for name in ("exceptional point", "critical pair"):
-        motion = tiny_motion(SEVERAL[name][0])
-        assert motion.form.doubles and motion.bound_until(1.0) == np.inf
+@pytest.mark.parametrize("name", ["exceptional point", "critical pair"])
+def test_the_bound_until_a_time_covers_the_bounds_and_errors_of_2x2_blocks(name: str) -> None:
+    """With 2 x 2 blocks (defective pairs) ``bound_until`` is at least every bound the
+    engine gives on [0, t_max] (a dense grid) and the true error there (arb)."""
+    scene = SEVERAL[name][0]
+    motion = tiny_motion(scene)
+    assert motion.form.doubles
+    for t_max in (0.5, 1.0, 10.0, 100.0):
+        envelope = motion.bound_until(t_max)
+        assert envelope < np.inf
+        assert motion.largest_bound(np.linspace(0.0, t_max, 4001)) <= envelope
+    times = [0.0, 0.125, 0.5, 1.0, 7.5, 10.0]
+    values, _ = motion.evaluate(as_times(times), 0)
+    errors = _errors(values, reference_motion_arb(scene, times, digits=30))
+    assert errors.max() <= motion.bound_until(10.0)
 
 
 @pytest.mark.parametrize(("c", "k", "x0", "v0"), [
