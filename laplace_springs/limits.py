@@ -287,6 +287,12 @@ class Limits:
     max_components: int = 300_000
     #: Largest n of an n x n matrix given entry by entry (three 500 x 500 arrays load in 9 s).
     max_matrix_input_size: int = 500
+    #: Most terms one equation of motion (Scene.from_equations) may expand into, estimated
+    #: from the expression before SymPy expands it. Measured on one core: a product of sums
+    #: expanding to 2,000 terms takes 0.7 s, 5,000 terms 2.4 s, 11,000 terms 5.5 s;
+    #: (k0 + ... + k29)**12 * x'' (7·10⁹ terms) ran out of memory after 30 s, and is now
+    #: refused in a millisecond.
+    max_equation_terms: int = 5_000
     #: Scenes with at most this many coordinates store M, C, K densely.
     dense_storage_max_coordinates: int = 256
     #: Longest text accepted by the parser, in characters.

@@ -307,3 +307,29 @@ def test_cli_reads_derivative_notations_from_an_equations_file(tmp_path, capsys)
     for t, value in ((1.0, 2 * mpmath.exp(-1)), (2.5, 3.5 * mpmath.exp(-2.5))):
         row = next(r for r in rows if float(r[0]) == t)
         assert abs(float(row[1]) - float(value)) < 1e-11
+
+
+@pytest.mark.parametrize("text", [
+    "(k0+k1+k2+k3+k4+k5+k6+k7+k8+k9+k10+k11+k12+k13+k14+k15+k16+k17+k18+k19)**12*x'' + x = 0",
+    "x'' + x = (k0+k1+k2+k3+k4+k5+k6+k7+k8+k9+k10+k11+k12+k13+k14+k15+k16+k17+k18+k19)**12*cos(t)",
+    "x'' + x = (cos(t) + sin(t) + cos(2*t) + sin(3*t))**30",
+    "x'' + cos((k0 + k1 + k2 + k3 + k4 + k5 + k6 + k7 + k8 + k9)**9)*x = 0",
+])
+def test_an_equation_that_would_expand_beyond_memory_is_refused_at_once(text):
+    # (k0 + ... + k29)**12*x'' is 7.9e9 terms: SymPy's expand ran out of memory after 30 s
+    # (killed the process without a memory limit); the trigonometric power took 31 s
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(ls.LimitError, match=r"expands into an estimated [\d,]+ terms, above the limit "
+                                            r"5,000 \(Limits.max_equation_terms\)"):
+        ls.Scene.from_equations(text + "; x(0) = 1; x'(0) = 0", parameters=[f"k{i}" for i in range(20)])
+    assert time.perf_counter() - start < 1.0
+
+
+def test_products_of_sums_within_the_limit_still_read():
+    # (k1 + k2)**2 * x: 3 terms; (x + 1)**2 - x**2 - 1 is linear once expanded
+    scene = ls.Scene.from_equations("x'' + (k1 + k2)**2*x + (x + 1)**2 - x**2 - 1 = 0; x(0) = 1; x'(0) = 0",
+                                    parameters=["k1", "k2"])
+    k1, k2 = sorted(scene.parameters, key=str)
+    assert sp.expand(scene.K[0, 0] - ((k1 + k2) ** 2 + 2)) == 0

@@ -33,7 +33,9 @@ right-hand side (everything free of the unknowns) is the force f(t), which must 
 forcing class (:mod:`laplace_springs.model.forcing`).
 
 Size: at most :attr:`~laplace_springs.limits.Limits.max_matrix_input_size` coordinates (the
-matrices are dense input); each statement is parsed once, so a chain of 500 masses written
+matrices are dense input), and each statement at most
+:attr:`~laplace_springs.limits.Limits.max_equation_terms` terms once expanded (estimated from
+the expression before SymPy expands it: :func:`expanded_size`); each statement is parsed once, so a chain of 500 masses written
 as 1,500 statements reads in about 4 s (measured on one core, most of it the parser).
 
 Examples
@@ -51,6 +53,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -374,7 +377,75 @@ class _TextReader:
             self.variables[name] = value
             return None
         lhs, rhs = self.side(left, statement), self.side(right, statement)
-        return _Statement(sp.expand(lhs - rhs), statement, lhs, rhs)
+        return _Statement(_expanded(lhs - rhs, statement), statement, lhs, rhs)
+
+
+#: Terms counted at most (beyond every limit): the estimate saturates here.
+_TERMS_CAP = 2**62
+
+
+def _terms(count: int, power: int) -> int:
+    """Terms of a sum of ``count`` terms raised to ``power``: C(power + count - 1, count - 1)."""
+    if count <= 1 or power == 0:
+        return 1
+    if math.lgamma(power + count) - math.lgamma(power + 1) - math.lgamma(count) > math.log(_TERMS_CAP):
+        return _TERMS_CAP
+    return min(math.comb(power + count - 1, count - 1), _TERMS_CAP)
+
+
+def expanded_size(expr: sp.Basic) -> int:
+    """A bound on the terms ``sp.expand(expr)`` forms, from the expression tree, without
+    expanding it: a leaf is 1, a sum adds, a product multiplies, a power b**n gives the
+    C(n + A - 1, A - 1) monomials of its base's A terms, and a function counts as 1 while
+    its arguments are expanded on their own (the largest of them counts).
+
+    >>> k = sp.symbols("k0:30")
+    >>> expanded_size(sp.Add(*k)**12 * sp.Symbol("x"))
+    7898654920
+    >>> expanded_size(sp.cos(sp.Add(*k[:3])**2) + 1)
+    6
+    """
+    known: dict[sp.Basic, int] = {}
+    widest = 1
+    stack: list[tuple[sp.Basic, bool]] = [(expr, False)]
+    while stack:  # post-order, without recursion
+        node, ready = stack.pop()
+        if node in known:
+            continue
+        if not node.args or not isinstance(node, sp.Expr):
+            known[node] = 1
+            continue
+        if not ready:
+            stack.append((node, True))
+            stack.extend((child, False) for child in node.args if child not in known)
+            continue
+        sizes = [known[child] for child in node.args]
+        if isinstance(node, sp.Add):
+            size = min(sum(sizes), _TERMS_CAP)
+        elif isinstance(node, sp.Mul):
+            size = 1
+            for part in sizes:
+                size = min(size * part, _TERMS_CAP)
+        elif isinstance(node, sp.Pow):
+            power = node.exp
+            size = _terms(sizes[0], int(min(abs(power), _TERMS_CAP))) if power.is_Integer else sizes[0]
+        else:  # a function: 1 term outside, its arguments expanded inside
+            widest = max(widest, *sizes)
+            size = 1
+        known[node] = size
+    return max(known[expr], widest)
+
+
+def _expanded(expr: sp.Expr, statement: object) -> sp.Expr:
+    """``sp.expand(expr)``, or a LimitError when it would form more than
+    :attr:`~laplace_springs.limits.Limits.max_equation_terms` terms."""
+    size, most = expanded_size(expr), limits().max_equation_terms
+    if size > most:
+        shown_size = "more than 10^18" if size >= _TERMS_CAP else f"{size:,}"
+        raise LimitError(f"equation {shown(statement)}: expands into an estimated {shown_size} terms, "
+                         f"above the limit {most:,} (Limits.max_equation_terms); write it with "
+                         "fewer products and powers of sums")
+    return sp.expand(expr)
 
 
 def _check_value_name(name: str, statement: str) -> None:
@@ -418,7 +489,7 @@ def _sympy_statement(item: sp.Basic, unknowns: _Unknowns) -> _Statement:
                          "(an Eq that SymPy evaluated to True or False says nothing about the unknowns)")
     time = _time_symbol(item)
     lhs, rhs = (_placeholders(side, time, unknowns, item) for side in (lhs, rhs))
-    return _Statement(sp.expand(lhs - rhs), str(item), lhs, rhs)
+    return _Statement(_expanded(lhs - rhs, item), str(item), lhs, rhs)
 
 
 def _time_symbol(item: sp.Basic) -> sp.Symbol:
