@@ -333,3 +333,20 @@ def test_products_of_sums_within_the_limit_still_read():
                                     parameters=["k1", "k2"])
     k1, k2 = sorted(scene.parameters, key=str)
     assert sp.expand(scene.K[0, 0] - ((k1 + k2) ** 2 + 2)) == 0
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # x0={'z': 1} was passed over and the error said x(0) was missing
+    ({"equations": "x'' + x = 0", "x0": {"z": 1}, "v0": [0]}, "x0: 'z' is not a coordinate"),
+    # coordinates=['x', 'x'] said "x has no equation"
+    ({"equations": "x'' + x = 0; x(0) = 1; x'(0) = 0", "coordinates": ["x", "x"]},
+     "coordinates: 'x' is listed twice"),
+    # a parameter or a value written x'' gave "unexpected \"'\" at column 2"
+    ({"equations": "x'' + x = 0; x(0) = 1; x'(0) = 0", "parameters": ["x"]},
+     "'x' is written as an unknown function .* but is declared a parameter"),
+    ({"equations": "x = 2; x'' + x = 0; x(0) = 1; x'(0) = 0"},
+     "'x' is written as an unknown function .* but is given a value"),
+])
+def test_inconsistent_coordinates_are_named(kwargs, message):
+    with pytest.raises(ls.SceneError, match=message):
+        ls.Scene.from_equations(**kwargs)

@@ -676,6 +676,9 @@ def _vector(given: Any, names: list[str], what: str) -> dict[str, Any]:
     if given is None:
         return {}
     if isinstance(given, Mapping):
+        unknown = [str(name) for name in given if str(name) not in names]
+        if unknown:
+            raise SceneError(f"{what}: {unknown[0]!r} is not a coordinate (coordinates: {', '.join(names)})")
         return {str(name): value for name, value in given.items()}
     values = list(given)
     if len(values) != len(names):
@@ -709,7 +712,12 @@ def _statements(equations: Any, unknowns: _Unknowns, declared: dict[str, sp.Symb
     items = [equations] if isinstance(equations, (str, sp.Basic)) else list(_items(equations))
     texts = [item for item in items if isinstance(item, str)]
     declared.update(declare_parameters([name for text in texts for name in _text_statements(text)[0]]))
-    for name in _unknown_names("\n".join(texts), [*declared, *_defined_names(texts)]):
+    defined = _defined_names(texts)
+    for name in _unknown_names("\n".join(texts), ()):
+        if name in declared or name in defined:  # x'' or x(t) of a name that is no unknown
+            what = "declared a parameter" if name in declared else "given a value"
+            raise SceneError(f"{name!r} is written as an unknown function ({name}'', {name}(t) or "
+                             f"{name}[t]) but is {what}; a coordinate is neither")
         unknowns.add(name)
     reader = _TextReader(unknowns, dict(declared))
     out: list[_Statement] = []
@@ -742,6 +750,8 @@ def _coordinate_names(coordinates: object) -> list[str] | None:
         if not isinstance(item, str) or re.fullmatch(_NAME, item) is None:
             raise SceneError(f"coordinates: a name is a letter, then letters, digits or '_', got "
                              f"{shown(item)}")
+        if item in names:
+            raise SceneError(f"coordinates: {item!r} is listed twice")
         names.append(item)
     return names
 
