@@ -244,9 +244,11 @@ class Solution(ABC):
         """
         self._require_numbers()
         T = as_times(times)
-        order = _check_order(derivative)
-        _check_size(len(T), self.scene.n)
-        goal = check_target(self.target if target is None else target)
+        order = derivative if derivative.__class__ is int and 0 <= derivative <= 2 \
+            else _check_order(derivative)
+        n = self.scene.n
+        _check_size(len(T), n)
+        goal = self.target if target is None else check_target(target)  # ours: checked
         request = request_for(T, target=goal, dps=None if dps is None else check_dps(dps),
                               order=order)
         plan = self._plan(request)
@@ -257,10 +259,12 @@ class Solution(ABC):
             # an engine's overflow shows as an infinite bound, never a NumPy warning
             with np.errstate(all="ignore"):
                 values, bounds, report, verdict = execute_judged(
-                    plan, self._evaluator, T, self.scene.n, order, goal, self._floor(order),
+                    plan, self._evaluator, T, n, order, goal, self._floor(order),
                     progress=progress)
                 sizes = np.abs(values)
-            _check_float_result(verdict, sizes, T, report, goal, order)
+            if not (sizes.size and verdict.largest <= _HUGE
+                    and verdict.worst <= max(goal, limits().refusal_bound)):
+                _check_float_result(verdict, sizes, T, report, goal, order)
             # the executor's own arrays: floored in place
             bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
             bounds += _TINY
@@ -309,12 +313,24 @@ class Solution(ABC):
     excluded: frozenset[str] = frozenset()
 
     def _plan(self, request: Request) -> Plan:
-        own = self._own_engines()
         if not self._planned:
+            own = self._own_engines()
             return Plan(request, self.method, tuple(own), costs={name: Cost(0.0, 0.0) for name in own},
                         reason=self.reason)
+        built, available = self._engine_sets
         return plan_request(scene_facts(self.scene, self.requested), request, method=self.requested,
-                            built=own, available=(set(own) | set(BUILDERS)) - self.excluded)
+                            built=built, available=available)
+
+    @property
+    def _engine_sets(self) -> tuple[frozenset[str], frozenset[str]]:
+        """(the engines this solution holds, the engines its plans may use): made once, and
+        again if :attr:`excluded` is replaced (``solve`` sets it after building)."""
+        cached: Any = self.__dict__.get("_sets")
+        if cached is None or cached[0] is not self.excluded:
+            own = frozenset(self._own_engines())
+            cached = self.__dict__["_sets"] = (self.excluded, own,
+                                               (own | frozenset(BUILDERS)) - self.excluded)
+        return cached[1], cached[2]
 
     def _evaluator(self, name: str) -> Evaluator | Refusal:
         """The evaluator of engine ``name`` for this scene, built once per solution."""

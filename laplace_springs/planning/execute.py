@@ -124,11 +124,18 @@ def execute_judged(plan: Plan, build: Callable[[str], Evaluator | Refusal], time
     count = len(times)
     refusals: dict[str, Refusal] = {}
     show = plan.seconds > limits().progress_after_seconds if progress is None else progress
+    first = None if show else _primary_at_once(plan, build, times, n, order, target, floor)
+    if first is not None and not first.pending.any():
+        # the primary took every time within the target: the report, and nothing else
+        report = EvaluationReport(plan, (plan.chain[0],) * count, first.relative)
+        return first.values, first.bounds, report, first.verdict
     bar = Progress(count * max(len(plan.chain), 1), enabled=bool(show), unit="evaluations")
     run = _Run(plan, build, times, n, order, target, floor, bar, refusals)
     try:
         groups = plan.groups(times.hi, times.span[1]) if count else [(None, plan.chain)]
-        if len(groups) == 1:
+        if first is not None:  # one group of times: the escalation of the primary's misses
+            state = run.chain(plan.chain[1:], None, first)
+        elif len(groups) == 1:
             state = run.chain(plan.chain, None, None)
         else:  # the primary for every time, then each band of times its own escalation
             state = run.chain(plan.chain[:1], None, None)
@@ -139,6 +146,25 @@ def execute_judged(plan: Plan, build: Callable[[str], Evaluator | Refusal], time
     state = state or _Kept.empty(n, count)
     report = EvaluationReport(plan, state.engines(), state.relative, tuple(refusals.values()))
     return state.values, state.bounds, report, state.verdict
+
+
+def _primary_at_once(plan: Plan, build: Callable[[str], Evaluator | Refusal], times: Times,
+                     n: int, order: int, target: float, floor: float) -> _Kept | None:
+    """The first step of :func:`execute_judged` where it is one call: the primary engine
+    on every time (one group of times, within its horizon and one chunk; no progress bar
+    is shown), judged. None where that does not hold or the primary refuses (the plan is
+    then run in full)."""
+    count = len(times)
+    if not (plan.chain and count) or count * n > _chunk_values() \
+            or len(plan.groups(times.hi, times.span[1])) > 1:
+        return None
+    name = plan.chain[0]
+    if not plan.request.t_max <= plan.horizons.get(name, np.inf):
+        return None
+    evaluator = build(name)
+    if isinstance(evaluator, Refusal):
+        return None
+    return _Kept.taking(evaluator(times, order, target), name, floor, target)
 
 
 @dataclass(eq=False)

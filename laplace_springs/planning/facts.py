@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from operator import attrgetter
 
 import numpy as np
 
@@ -116,6 +117,14 @@ class SceneFacts:
     periodic: bool = False
     quotes: tuple[Quote, ...] = ()
 
+    def __hash__(self) -> int:
+        """The hash of the fields, computed once (every plan is memoised by the facts)."""
+        found: int | None = self.__dict__.get("_hash")
+        if found is None:
+            found = hash(_FIELD_VALUES(self))
+            object.__setattr__(self, "_hash", found)
+        return found
+
     def quote(self, engine: str) -> Quote | None:
         """The engine module's quote for this scene, if it gave one."""
         return next((q for q in self.quotes if q.engine == engine), None)
@@ -135,6 +144,10 @@ class SceneFacts:
     def numeric(self) -> bool:
         """Unforced, numbers only, with a first-order form: every float engine may try it."""
         return self.first_order and not self.forced and not self.symbolic
+
+
+#: The field values of a SceneFacts as a tuple (one C call).
+_FIELD_VALUES = attrgetter(*(f.name for f in fields(SceneFacts)))
 
 
 def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
