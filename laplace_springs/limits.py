@@ -293,6 +293,12 @@ class Limits:
     #: (k0 + ... + k29)**12 * x'' (7·10⁹ terms) ran out of memory after 30 s, and is now
     #: refused in a millisecond.
     max_equation_terms: int = 5_000
+    #: Largest number of terms the symbolic resolvent may form when it expands
+    #: det(λ²M + λC + K) and its adjugate, bounded before expanding (the permanent of the
+    #: entries' expanded sizes, which counts the Leibniz products). A fully symbolic damped
+    #: chain of four masses bounds 941 terms and solves in 2 s; K = (k0 + ... + k9)**40
+    #: (2·10⁹ terms) ran past 60 s and is refused at once.
+    max_resolvent_terms: int = 100_000
     #: Scenes with at most this many coordinates store M, C, K densely.
     dense_storage_max_coordinates: int = 256
     #: Longest text accepted by the parser, in characters.

@@ -12,12 +12,16 @@ adjugate over ℚ[λ] or ℤ[params][λ]): no floats for exact input.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from ..limits import limits
+from ..model.equations import expanded_size
+from ..model.errors import LimitError
 from ..model.scene import Scene
 from ..model.symbols import lam
 from .rational import initial_vector, rational_adjugate, rational_pencil, solve_at_integers, to_poly
@@ -172,12 +176,46 @@ def resolvent(scene: Scene) -> Resolvent:
     if fast is not None:
         return fast
     P = lam**2 * scene.M + lam * scene.C + scene.K
+    _check_expansion(P)
     adjugate, det = _adjugate_and_determinant(sp.Matrix(P))
     adjugate = adjugate.applyfunc(sp.expand)
     determinant = _poly(sp.expand(det))
     rhs = scene.M * (lam * scene.x0 + scene.v0) + scene.C * scene.x0
     numerators = tuple(_poly(sp.expand(e)) for e in adjugate * rhs)
     return Resolvent(scene, determinant, numerators, sp.ImmutableMatrix(adjugate))
+
+
+def _check_expansion(P: sp.MatrixBase) -> None:
+    """A LimitError, before anything is expanded, when det(P) and its adjugate could form
+    more than Limits.max_resolvent_terms terms: the permanent of the entries' expanded
+    sizes (Ryser's formula up to 12 coordinates, the product of the row sums beyond, which
+    is larger) bounds the products of the Leibniz expansion."""
+    n = P.rows
+    sizes = [[expanded_size(P[i, j]) if P[i, j] != 0 else 0 for j in range(n)]
+             for i in range(n)]
+    most = limits().max_resolvent_terms
+    bound = _permanent(sizes) if n <= 12 else math.prod(sum(row) for row in sizes)
+    if bound > most:
+        i, j = max(((i, j) for i in range(n) for j in range(n)), key=lambda ij: sizes[ij[0]][ij[1]])
+        raise LimitError(
+            f"the symbolic resolvent det(λ²M + λC + K) could expand to about {bound:.3g} terms, "
+            f"more than Limits.max_resolvent_terms = {most:,} (its entry [{i},{j}] alone expands "
+            f"to {sizes[i][j]:,} terms); give some parameters values, or solve with numbers")
+
+
+def _permanent(sizes: list[list[int]]) -> int:
+    """The permanent of a small non-negative integer matrix (Ryser's formula)."""
+    n = len(sizes)
+    total = 0
+    for mask in range(1, 1 << n):
+        columns = [j for j in range(n) if mask >> j & 1]
+        product = 1
+        for row in sizes:
+            product *= sum(row[j] for j in columns)
+            if not product:
+                break
+        total += product if (n - len(columns)) % 2 == 0 else -product
+    return total
 
 
 def _rational_resolvent(scene: Scene) -> Resolvent | None:

@@ -264,3 +264,40 @@ def test_nine_mass_chain_whose_factors_are_small_still_solves():
     times = ["0.37", "1.3", "4.1"]
     values = ls.solve(scene, method="exact").evaluate(times)
     assert relative_error(values, reference_motion(scene, times)) < 1e-13
+
+
+def test_a_resolvent_too_large_to_expand_is_refused_before_expanding() -> None:
+    """K = (k0 + ... + k9)**40 with the ten k declared (2·10⁹ terms once expanded) ran
+    `solve` past 60 s in SymPy's expand; it is a LimitError naming the entry, at once.
+    A fully symbolic damped chain of three masses (a bound of 165 terms) still solves,
+    and its x(t) agrees with the matrix-exponential reference at chosen values."""
+    ks = [f"k{i}" for i in range(10)]
+    scene = ls.Scene.from_matrices(M=[[1]], K=[["(" + "+".join(ks) + ")**40"]], x0=[1],
+                                   v0=[0], parameters=ks)
+    start = time.perf_counter()
+    with pytest.raises(ls.LimitError, match=r"Limits.max_resolvent_terms = 100,000 \(its "
+                                            r"entry \[0,0\] alone expands to 2,054,455,635"):
+        ls.solve(scene)
+    assert time.perf_counter() - start < HANG_GUARD
+    names = ["m0", "m1", "m2"]
+    nodes = ["wall", *names, "wall"]
+    links = list(zip(nodes, nodes[1:]))
+    chain = ls.Scene.from_components(
+        masses={m: m for m in names},
+        springs={f"k{i}": (p, q, f"k{i}") for i, (p, q) in enumerate(links)},
+        dashpots={f"c{i}": (p, q, f"c{i}") for i, (p, q) in enumerate(links)},
+        x0=[1, 0, 0], v0=[0, 0, 0],
+        parameters=[*names, *(f"k{i}" for i in range(4)), *(f"c{i}" for i in range(4))])
+    x = ls.solve(chain).x
+    by_name = {str(symbol): symbol for symbol in chain.free_symbols}
+    values = {by_name[name]: value for name, value in zip(
+        [*names, "k0", "k1", "k2", "k3", "c0", "c1", "c2", "c3"],
+        [1, 2, sp.Rational(3, 2), 1, 2, 1, 3, sp.Rational(1, 10), sp.Rational(1, 3), 1,
+         sp.Rational(1, 5)])}
+    numeric = chain.subs({str(k): v for k, v in values.items()})
+    times = [sp.Rational(1, 2), 2]
+    expected = reference_motion(numeric, times)
+    for j, time_value in enumerate(times):
+        for i in range(3):
+            got = complex(x[i].subs(values).subs(ls.t, time_value).evalf(30)).real
+            assert abs(got - float(expected[i][j])) <= 1e-12 * max(1.0, abs(float(expected[i][j])))
