@@ -232,12 +232,41 @@ def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str
     wanted = FAMILIES.get(method, (method,)) if method != "auto" and request.dps is None else None
     # the escalation order is the scene's, not the request's (costs for the default
     # request): a time's engine then never depends on the other times of a call
-    order = {e.name: (costs[e.name] if request == DEFAULT_REQUEST
-                      else _cost(e, facts, DEFAULT_REQUEST, built)).seconds for e in serving}
-    chain, head = _chain(serving, costs, horizons, facts, request, wanted, order)
+    scene_order = _default_order(facts, built)
+    order = {e.name: scene_order(e)[0] for e in serving}
+    chain, head = _chain(serving, costs, horizons, facts, request, wanted, order,
+                         lambda e: scene_order(e)[1])
     retimed = _Retimed(facts, built, chain, head) if len(chain) > head + 1 else None
     return Plan(request, method, chain, horizons, costs, tuple(refusals),
                 _reason(chain, costs, method, facts, request, refusals), retimed)
+
+
+def _default_order(facts: SceneFacts, built: frozenset[str]
+                   ) -> Callable[[Engine], tuple[float, bool]]:
+    """engine -> (its seconds for the default request, whether it is expected to miss the
+    target there): the escalation order of the scene, the same for every request, so
+    worked out once per scene's facts and built engines (and the limits in force)."""
+    key = (facts, built)
+    current = limits()
+    found = _ORDERS.get(key)
+    if found is None or found[0] is not current:
+        if len(_ORDERS) >= _MEMO_SIZE:
+            _ORDERS.clear()
+        found = _ORDERS[key] = (current, {})
+    table = found[1]
+
+    def of(entry: Engine) -> tuple[float, bool]:
+        known = table.get(entry.name)
+        if known is None:
+            known = table[entry.name] = (
+                _cost(entry, facts, DEFAULT_REQUEST, built).seconds,
+                entry.expectation(facts, DEFAULT_REQUEST) is not None)
+        return known
+    return of
+
+
+#: (facts, built) -> (limits, {engine: (seconds, misses)}) for the default request.
+_ORDERS: dict[tuple[Any, ...], tuple[Any, dict[str, tuple[float, bool]]]] = {}
 
 
 class _Retimed:
@@ -274,10 +303,12 @@ def _cost(entry: Engine, facts: SceneFacts, request: Request, built: frozenset[s
 
 def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, float],
            facts: SceneFacts, request: Request, wanted: tuple[str, ...] | None,
-           order: dict[str, float]) -> tuple[tuple[str, ...], int]:
+           order: dict[str, float], misses: Callable[[Engine], bool]
+           ) -> tuple[tuple[str, ...], int]:
     """Primary, then cover of the times beyond its horizon, then escalation (ordered by
-    ``order``, the engines' costs for the default request); and the number of engines
-    before the escalation."""
+    ``order``, the engines' costs for the default request, and ``misses``, whether an
+    engine is expected to miss the target there); and the number of engines before the
+    escalation."""
     def key(e: Engine) -> float:
         return costs[e.name].seconds
 
@@ -305,10 +336,6 @@ def _chain(serving: list[Engine], costs: dict[str, Cost], horizons: dict[str, fl
     # trying only when it is cheap. Judged for the default request, not this one: the
     # order is the scene's, so a time's engine does not depend on the other times of a call
     budget = _ESCALATION_BUDGET * max(order[primary.name], 1e-3)
-
-    def misses(e: Engine) -> bool:
-        return e.expectation(facts, DEFAULT_REQUEST) is not None
-
     escalation = sorted((e for e in rest if e not in beyond
                          and (not misses(e) or order[e.name] <= budget)),
                         key=lambda e: (e.precision >= primary.precision, misses(e), order[e.name]))
