@@ -262,9 +262,7 @@ class Solution(ABC):
                     plan, self._evaluator, T, n, order, goal, self._floor(order),
                     progress=progress)
                 sizes = np.abs(values)
-            if not (sizes.size and verdict.largest <= _HUGE
-                    and verdict.worst <= max(goal, limits().refusal_bound)):
-                _check_float_result(verdict, sizes, T, report, goal, order)
+            _check_float_result(verdict, sizes, T, report, goal, order)
             # the executor's own arrays: floored in place
             bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
             bounds += _TINY

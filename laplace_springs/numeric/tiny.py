@@ -399,8 +399,8 @@ class TinyMotion:
     def bound_until(self, t_max: float) -> float:
         """An upper bound of :meth:`largest_bound` over the times [0, t_max], from the
         closed form's or the decomposition's constants alone (float arithmetic, no
-        per-time work); inf where it has 2 x 2 blocks (ask :meth:`largest_bound`).
-        Decomposes on first use.
+        per-time work); inf for a failed decomposition or where an exponential would
+        overflow (ask :meth:`largest_bound`). Decomposes on first use.
 
         >>> scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, 0], [0, 0]],
         ...                             K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, 0])

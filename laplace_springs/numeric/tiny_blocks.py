@@ -506,10 +506,10 @@ class BlockMotion:
         float operations where :meth:`bounds` makes a dozen NumPy calls or more).
 
         Each per-time factor of :meth:`_bounds` is nondecreasing or bounded by its value at
-        0 or t_max (e^{gt} ≤ max(1, e^{g·t_max})), and each row's weights are bounded by
-        norms: ‖L_i‖ ≤ ‖X‖_F and Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖ (so a 2 x 2 block's
-        |L_b c_b| and |L_b N c_b| sum to at most 2‖X‖‖c‖ and 2‖X‖ν‖c‖, ν its largest ‖N‖).
-        Inf for a failed decomposition or where an exponential would overflow.
+        0 or t_max (e^{gt} ≤ max(1, e^{g·t_max})). Without 2 x 2 blocks each row's weights
+        are bounded by norms (‖L_i‖ ≤ ‖X‖_F, Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖); with them the
+        weights of x themselves are read (:meth:`_blocks_until`). Inf for a failed
+        decomposition or where an exponential would overflow.
         """
         if self.failure is not None or not t_max < 1e300:
             return math.inf
