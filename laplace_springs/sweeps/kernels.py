@@ -51,6 +51,11 @@ UNIT_EXTENDED = float(np.finfo(np.longdouble).eps) / 2
 _TAYLOR_TERMS = 18
 #: Newton steps on each isolated root.
 _NEWTON_STEPS = 2
+#: Absolute error, per unit of a term's coefficient, of an exponential that underflows
+#: (e^{rt} below 2^-1022 is subnormal or 0: its error, and that of the products and sums
+#: it enters, is up to 2^-1074 each, not relative to the value): 1e-300 covers it with room
+#: (x = (1 + t)e^{-t} at t = 1e4 is 0 in float64; a bound of 0 there claims an exact 0).
+_UNDERFLOW = 1e-300
 
 
 @dataclass
@@ -146,8 +151,9 @@ def _expm_shifted(A: np.ndarray) -> np.ndarray:
     for k in range(1, _TAYLOR_TERMS + 1):
         term = term @ X / k
         total = total + term
-    for _ in range(squarings):
-        total = total @ total
+    with np.errstate(over="ignore", invalid="ignore"):  # inf/NaN: the caller's bound is inf
+        for _ in range(squarings):
+            total = total @ total
     return total
 
 
@@ -207,7 +213,8 @@ def _cluster_terms(z: np.ndarray, others: np.ndarray, lead: np.ndarray, num: np.
         numer = numer + 4 * UNIT / Qmu[:, None, None] \
             * np.einsum("bik,btk->bit", spread, np.abs(H))
     error = UNIT * (2 * N + 4) * size * (1 + centre[:, None, None] * times[None, None, :]) \
-        + size * (shift[:, None] * reach ** m)[:, None, :] + numer
+        + size * (shift[:, None] * reach ** m)[:, None, :] + numer \
+        + _UNDERFLOW * np.einsum("bik,btk->bit", np.abs(G), np.abs(powers * E))
     return value, np.where(np.isfinite(error), error, np.inf)
 
 
@@ -461,7 +468,8 @@ def _isolated_terms(roots: np.ndarray, lead: np.ndarray, num: np.ndarray, num_ab
             values[sets] = np.matmul(np.ascontiguousarray(weighted[..., :C]), exps).real \
                 + np.matmul(np.ascontiguousarray(weighted[..., C:].real), real)
             err = np.matmul(w[:, None, :] * np.take_along_axis(constant[sets], pick, axis=2), magnitude) \
-                + np.matmul(w[:, None, :] * np.take_along_axis(linear[sets], pick, axis=2), magnitude) * times
+                + np.matmul(w[:, None, :] * np.take_along_axis(linear[sets], pick, axis=2), magnitude) * times \
+                + _UNDERFLOW * np.sum(np.abs(weighted), axis=2)[:, :, None]
             if not refine:
                 error[sets] = err
                 continue
@@ -539,7 +547,8 @@ def _general_terms(roots: np.ndarray, lead: np.ndarray, safe_num: np.ndarray, nu
                         + np.where(paired, 2 * spread * reach, 0.0) + shift[:, None, :])
         curve = size * np.where(paired, spread, 0.0)
         error = np.matmul(constant, magnitude) + np.matmul(slope, magnitude) * times[None, None, :] \
-            + np.matmul(curve, magnitude) * (times**2)[None, None, :]
+            + np.matmul(curve, magnitude) * (times**2)[None, None, :] \
+            + _UNDERFLOW * np.sum(size, axis=2)[:, :, None]
 
     return values, error
 

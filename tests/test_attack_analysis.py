@@ -1,0 +1,117 @@
+"""Attacks on the analysis and sweep APIs, each value checked against an independent route.
+
+References are written here: closed forms worked by hand and evaluated in mpmath at
+40 digits, or (K − ω²M + iωC)⁻¹ inverted in mpmath over exact rationals.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import laplace_springs as ls
+from laplace_springs.model.errors import LimitError, SceneError
+
+
+def _single_mass(c: mp.mpf, k: mp.mpf, t: float) -> tuple[mp.mpf, mp.mpf, mp.mpf]:
+    """x, x', x'' of x'' + c x' + k x = 0, x(0) = 1, x'(0) = 0, by hand (m = 1)."""
+    t = mp.mpf(t)
+    disc = c * c - 4 * k
+    if disc == 0:  # critical: x = (1 + at) e^{-at}, a = c/2
+        a = c / 2
+        x, v = (1 + a * t) * mp.exp(-a * t), -a * a * t * mp.exp(-a * t)
+    else:
+        s = mp.sqrt(mp.mpc(disc)) / 2
+        a = c / 2
+        # x = e^{-at}(cosh st + (a/s) sinh st), x' = -(k/s) e^{-at} sinh st
+        x = mp.re(mp.exp(-a * t) * (mp.cosh(s * t) + a / s * mp.sinh(s * t)))
+        v = mp.re(-k / s * mp.exp(-a * t) * mp.sinh(s * t))
+    return x, v, -c * v - k * x
+
+
+def test_sweep_underflowing_motion_has_a_positive_bound() -> None:
+    """A motion that underflows float64 (x = (1 + t)e^{-t} at t = 1e4 is 1e-4339) is 0 in
+    float64; its bound must not be 0 (the compiled route gave bound 0 on every set whose
+    exponentials underflowed: k = 1, c = 2 at t = 1e4, 1e5; k = 2, c = 2; k = 1e6, c = 2e3
+    at t = 7). Every bound is checked against the closed form at 40 digits."""
+    mp.mp.dps = 40
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0],
+                                   parameters={"k": "positive", "c": "nonnegative"})
+    g = ls.grid(k=[1e-6, 1.0, 2.0, 1e6], c=[0.0, 2e-3, 2.0, 2e3])
+    times = np.array([1e5, 7.0, 0.0, 12345.678, 1e4, 0.0, 0.25])
+    for order in (0, 1, 2):
+        result = ls.sweep(scene, g, times, return_error=True, derivative=order)
+        for p in range(len(g["k"])):
+            c, k = (mp.mpf(repr(float(g[name][p]))) for name in ("c", "k"))
+            for j, t in enumerate(times):
+                exact = _single_mass(c, k, float(t))[order]
+                value, bound = result.values[p, 0, j], result.error[p, 0, j]
+                assert abs(mp.mpf(value) - exact) <= bound, (order, float(c), float(k), t, value, bound)
+
+
+def _receptance(M: list[list[str]], C: list[list[str]], K: list[list[str]], w: float) -> mp.matrix:
+    """(K − ω²M + iωC)⁻¹ in mpmath at 40 digits from the decimal entries read exactly."""
+    n = len(M)
+    q = mp.mpf(w)
+    A = mp.matrix(n, n)
+    for i in range(n):
+        for j in range(n):
+            k, m, c = (mp.mpf(Fraction(x[i][j]).numerator) / Fraction(x[i][j]).denominator
+                       for x in (K, M, C))
+            A[i, j] = k - q * q * m + 1j * q * c
+    return A**-1
+
+
+def _scene(M: list[list[str]], C: list[list[str]], K: list[list[str]]) -> ls.Scene:
+    return ls.Scene.from_matrices(M=M, C=C, K=K, x0=[0] * len(M), v0=[0] * len(M))
+
+
+@pytest.mark.parametrize(("M", "C", "K", "omegas"), [
+    # one mass driven at float64's nearest to √2, undamped: 2 − ω² cancels (error 0.23 before)
+    ([["1"]], [["0"]], [["2"]], [float(np.sqrt(2.0))]),
+    # ζ = 5e-9 at and near resonance, huge and tiny ω
+    ([["1"]], [["1e-8"]], [["1"]], [1.0, 1 + 1e-9, 1e150, 1e-150]),
+    # two masses, light damping on each, driven at float64's natural frequencies
+    ([["3", "0"], ["0", "1"]], [["1e-9", "0"], ["0", "1e-9"]], [["7.3", "-2.1"], ["-2.1", "2.1"]],
+     [1.8682890524164226, 1.0211901634633378, 0.5, 1e-200, 1e100]),
+])
+def test_frequency_response_near_resonance(M: list[list[str]], C: list[list[str]],
+                                           K: list[list[str]], omegas: list[float]) -> None:
+    """H(iω) within a few units of float64 rounding of ‖H‖ (normwise), against mpmath."""
+    mp.mp.dps = 40
+    H = ls.frequency_response(_scene(M, C, K), omegas)
+    n = len(M)
+    for k, w in enumerate(omegas):
+        R = _receptance(M, C, K, w)
+        size = max(abs(R[i, j]) for i in range(n) for j in range(n))
+        error = max(abs(R[i, j] - complex(H[k, i, j])) for i in range(n) for j in range(n))
+        assert error <= 1e-15 * size, (w, float(error / size))
+
+
+@pytest.mark.parametrize(("M", "C", "K", "w"), [
+    # free-free, damped, at ω = 0 (the message said "an undamped scene")
+    ([["1", "0"], ["0", "1"]], [["0.1", "-0.1"], ["-0.1", "0.1"]], [["1", "-1"], ["-1", "1"]], 0.0),
+    # free-free chain whose K rounds to a nonsingular float64 matrix (0.1 + 0.7 ≠ 0.8):
+    # H(0) came back as about 1e16 (garbage), at ω = 1e-12 as a wrong finite value
+    ([["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]], [["0"] * 3] * 3,
+     [["0.1", "-0.1", "0"], ["-0.1", "0.8", "-0.7"], ["0", "-0.7", "0.7"]], 0.0),
+    ([["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]], [["0"] * 3] * 3,
+     [["0.1", "-0.1", "0"], ["-0.1", "0.8", "-0.7"], ["0", "-0.7", "0.7"]], 1e-12),
+    # two masses, undamped, at float64's natural frequency (cond about 1e16)
+    ([["3", "0"], ["0", "1"]], [["0", "0"], ["0", "0"]], [["7.3", "-2.1"], ["-2.1", "2.1"]],
+     1.8682890524164226),
+])
+def test_frequency_response_singular_says_so(M: list[list[str]], C: list[list[str]],
+                                             K: list[list[str]], w: float) -> None:
+    """A pencil singular at float64 precision is refused, naming ω; never a value."""
+    with pytest.raises(SceneError, match=rf"omega = {w!r}.*singular"):
+        ls.frequency_response(_scene(M, C, K), [1.0, w])
+
+
+def test_frequency_response_beyond_float64_range() -> None:
+    """|H| = 1e-600 at ω = 1e300 is no float64 number: a LimitError naming ω."""
+    with pytest.raises(LimitError, match="omega = 1e\\+300"):
+        ls.frequency_response(_scene([["1"]], [["1"]], [["1"]]), [1e300])
