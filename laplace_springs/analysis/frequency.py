@@ -17,11 +17,14 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any, overload
 
+import mpmath as mp
 import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
 
 from ..exact.resolvent import resolvent
+from ..kernels.dd import dd_add, dd_mul, dd_mul_float, from_exact, two_prod, two_sum
+from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
 from ..model.names import coordinate_index
@@ -31,6 +34,7 @@ from ..model.supports import support_columns
 from ..model.symbols import OMEGA, lam
 from ..model.units import frequencies_to_rad_per_second
 from ..numeric.first_order import float_matrix
+from ..numeric.mp_expr import numeric_value
 
 __all__ = ["omega", "frequency_response", "steady_state_amplitude", "transmissibility",
            "transmissibility_function"]
@@ -121,45 +125,100 @@ def _frequencies(omegas: Any, caller: str, per_frequency: int) -> np.ndarray:
 
 def _solve_pencils(scene: Scene, w: np.ndarray, columns: int,
                    rhs: Callable[[np.ndarray], np.ndarray], caller: str) -> np.ndarray:
-    """(K − ω²M + iωC)⁻¹ B(ω) for each ω = w[k], in float64, with ω² never formed;
+    """(K − ω²M + iωC)⁻¹ B(ω) for each ω = w[k], in float64, with ω² never rounded;
     ``rhs(part)`` gives the n x ``columns`` right-hand sides B of the frequencies ``part``.
 
-    Above ω = 1 the pencil is divided by ω² (K/ω/ω − M + iC/ω) and the solution by ω twice,
-    so ω up to the float64 range gives finite values; a value that underflows (|H| below
-    about 1e-308 where the scaled solution is not zero) or a singular pencil (an undamped
-    scene driven at a natural frequency) is an error naming the frequency, never NaN or a
-    silent zero. The result (frequencies x n x columns) is held to
-    Limits.max_evaluation_values before any work, and the pencils are formed and solved
-    in chunks of about Limits.evaluation_chunk_values numbers.
+    Above ω = 1 the pencil is divided by s², s the power of two at or above ω (K/s² −
+    (ω/s)²M + i(ω/s²)C, each exactly or in double-double), and the solution by s twice, so
+    ω up to the float64 range gives finite values. The pencil is formed in double-double
+    from the exact entries (near a natural frequency K − ω²M cancels: rounded ω² or
+    entries would leave an error of u‖K‖ against a pencil of size ζ‖K‖), solved in
+    float64 and refined with residuals summed in double-double until the correction is
+    below the float64 rounding. A pencil that is singular at float64 precision (an
+    undamped mode driven at its natural frequency, a rigid-body mode at ω = 0: refinement
+    does not converge) is a SceneError naming the frequency, and a value that underflows
+    (|H| below about 1e-308 where the scaled solution is not zero) a LimitError, never NaN,
+    a silent zero or a value ruled by rounding. The result (frequencies x n x columns) is
+    held to Limits.max_evaluation_values before any work, and the pencils are formed and
+    solved in chunks of about Limits.evaluation_chunk_values numbers.
     """
     n = scene.n
     _check_size(w.size, n * columns, caller)
-    M, C, K = (float_matrix(getattr(scene, name), name) for name in ("M", "C", "K"))
+    parts = [_dd_matrix(getattr(scene, name), name) for name in ("M", "C", "K")]
     out = np.empty((w.size, n, columns), dtype=complex)
-    step = max(1, limits().evaluation_chunk_values // (n * n))
+    step = max(1, limits().evaluation_chunk_values // (n * max(n, columns)))
     for start in range(0, w.size, step):
         part = slice(start, start + step)
-        out[part] = _solve_chunk(M, C, K, w[part], rhs(w[part]), caller)
+        out[part] = _solve_chunk(parts, w[part], rhs(w[part]), caller)
     return out
 
 
-def _solve_chunk(M: np.ndarray, C: np.ndarray, K: np.ndarray, w: np.ndarray, rhs: np.ndarray,
+def _dd_matrix(matrix: sp.MatrixBase, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """An exact numeric matrix as hi + lo float64 arrays (|error| ≤ u²|entry|)."""
+    hi = float_matrix(matrix, name)  # refuses symbols and entries beyond float64
+    lo = np.zeros_like(hi)
+    for (i, j), entry in matrix.todok().items():
+        if entry.is_Rational:
+            hi[i, j], lo[i, j] = from_exact(entry)
+        else:
+            with workdps(40):
+                hi[i, j], lo[i, j] = from_exact(mp.mpf(str(numeric_value(entry, 40))))
+    return hi, lo
+
+
+def _pencil(parts: list[tuple[np.ndarray, np.ndarray]], w: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The scaled pencils K/s² − (ω/s)²M + i(ω/s²)C (F, n, n) as double-doubles (real hi,
+    real lo, imaginary hi, imaginary lo) and the scales s (powers of two)."""
+    (Mh, Ml), (Ch, Cl), (Kh, Kl) = parts
+    exponent = np.where(np.abs(w) > 1, np.ceil(np.log2(np.maximum(np.abs(w), 1.0))), 0.0)
+    scale = np.ldexp(1.0, exponent.astype(int))
+    r = (w / scale)[:, None, None]  # exact: a power-of-two scaling
+    with np.errstate(under="ignore"):
+        g = ((w / scale) / scale)[:, None, None]  # ω/s², exact unless it underflows
+        square, square_lo = two_prod(r, r)  # (ω/s)² exactly
+        mh, ml = dd_mul(square, square_lo, Mh[None], Ml[None])
+        s = scale[:, None, None]
+        kh, kl = Kh[None] / s / s, Kl[None] / s / s  # exact unless it underflows
+        real_h, real_l = dd_add(kh, kl, -mh, -ml)
+        imag_h, imag_l = dd_mul_float(Ch[None], Cl[None], g)
+    return real_h, real_l, imag_h, imag_l, scale
+
+
+def _residual(B: np.ndarray, pencil: tuple[np.ndarray, ...], X: np.ndarray) -> np.ndarray:
+    """B − P X (F, n, m) for double-double P = (real hi, real lo, imaginary hi, imaginary
+    lo), the products error-free and the sums compensated (Ogita, Rump & Oishi's Dot2)."""
+    real_h, real_l, imag_h, imag_l = pencil
+    out = []
+    for target, terms in ((B.real, ((real_h, real_l, X.real, -1.0), (imag_h, imag_l, X.imag, 1.0))),
+                          (B.imag, ((real_h, real_l, X.imag, -1.0), (imag_h, imag_l, X.real, -1.0)))):
+        total = np.array(target, dtype=float)
+        err = np.zeros_like(total)
+        for Ah, Al, Y, sign in terms:
+            for j in range(Ah.shape[2]):
+                p, e = two_prod(Ah[:, :, j, None], Y[:, None, j, :])
+                total, f = two_sum(total, sign * p)
+                err += f + sign * (e + Al[:, :, j, None] * Y[:, None, j, :])
+        out.append(total + err)
+    return out[0] + 1j * out[1]
+
+
+def _solve_chunk(parts: list[tuple[np.ndarray, np.ndarray]], w: np.ndarray, rhs: np.ndarray,
                  caller: str) -> np.ndarray:
     """One chunk of :func:`_solve_pencils`."""
-    scale = np.where(np.abs(w) > 1, np.abs(w), 1.0)
-    pencils = ((K[None] / scale[:, None, None]) / scale[:, None, None]
-               - ((w / scale) ** 2)[:, None, None] * M[None]
-               + 1j * (w / scale / scale)[:, None, None] * C[None])
+    real_h, real_l, imag_h, imag_l, scale = _pencil(parts, w)
+    pencils = real_h + 1j * imag_h
+    B = np.asarray(rhs, dtype=complex)
     try:
-        scaled = np.linalg.solve(pencils, rhs)
+        scaled = np.linalg.solve(pencils, B)
     except np.linalg.LinAlgError:  # name the first frequency whose pencil is singular
         for k in range(w.size):
             try:
-                np.linalg.solve(pencils[k], rhs[k])
+                np.linalg.solve(pencils[k], B[k])
             except np.linalg.LinAlgError:
-                raise SceneError(f"{caller}: omega = {float(w[k])!r} is a natural frequency of an "
-                                 "undamped scene: the response grows without bound (resonance)") from None
+                raise SceneError(_singular(caller, float(w[k]))) from None
         raise
+    scaled = _refine(pencils, (real_h, real_l, imag_h, imag_l), B, scaled, w, caller)
     with np.errstate(under="ignore"):
         value = scaled / scale[:, None, None] / scale[:, None, None]
     largest = np.max(np.abs(value), axis=(1, 2), initial=0.0)
@@ -171,6 +230,54 @@ def _solve_chunk(M: np.ndarray, C: np.ndarray, K: np.ndarray, w: np.ndarray, rhs
                          f"range (|H| about {_magnitude(scaled[k], w[k])}); float64 values exist "
                          "only between about 1e-308 and 1e308")
     return value
+
+
+def _refine(pencils: np.ndarray, pencil: tuple[np.ndarray, ...], B: np.ndarray, X: np.ndarray,
+            w: np.ndarray, caller: str) -> np.ndarray:
+    """Iterative refinement of P X = B with double-double residuals: each step divides the
+    error by about u·cond(P); a correction that does not shrink below u‖X‖ within
+    _REFINE_STEPS steps (cond(P) ≳ 1/(10u): the pencil is singular at float64 precision)
+    is a SceneError naming the frequency."""
+    size = np.max(np.abs(X), axis=(1, 2))
+    done = ~np.isfinite(size) | (size == 0)
+    previous = np.full(w.size, np.inf)
+    for _ in range(_REFINE_STEPS):
+        todo = np.flatnonzero(~done)
+        if not todo.size:
+            return X
+        residual = _residual(B[todo], tuple(p[todo] for p in pencil), X[todo])
+        with np.errstate(over="ignore", invalid="ignore"):
+            correction = np.linalg.solve(pencils[todo], residual)
+        X[todo] = X[todo] + correction
+        change = np.max(np.abs(correction), axis=(1, 2))
+        size = np.max(np.abs(X[todo]), axis=(1, 2))
+        with np.errstate(invalid="ignore"):
+            stalled = ~(change <= 0.5 * previous[todo]) | ~np.isfinite(size)
+        converged = change <= 4 * _U * size
+        if np.any(stalled & ~converged):
+            k = int(todo[np.flatnonzero(stalled & ~converged)[0]])
+            raise SceneError(_singular(caller, float(w[k])))
+        previous[todo] = change
+        done[todo] = converged
+    if not done.all():
+        raise SceneError(_singular(caller, float(w[int(np.flatnonzero(~done)[0])])))
+    return X
+
+
+def _singular(caller: str, w: float) -> str:
+    """What a singular pencil at ω means."""
+    if w == 0:
+        return (f"{caller}: omega = 0.0: K is singular, a rigid-body mode (the scene is free to "
+                "drift: a static force moves it without bound); ask for omega > 0")
+    return (f"{caller}: omega = {w!r}: K - omega^2 M + i omega C is singular at float64 "
+            "precision (condition number beyond about 1e15): omega is a natural frequency of an "
+            "undamped mode (resonance: the response grows without bound), or close to 0 on a "
+            "scene with a rigid-body mode; float64 solving cannot resolve the response there")
+
+
+#: Refinement steps of :func:`_refine` (each gains about log10(1/(u·cond)) digits).
+_REFINE_STEPS = 6
+_U = 2.0**-53
 
 
 def _magnitude(scaled: np.ndarray, omega: float) -> str:
