@@ -115,3 +115,18 @@ def test_frequency_response_beyond_float64_range() -> None:
     """|H| = 1e-600 at ω = 1e300 is no float64 number: a LimitError naming ω."""
     with pytest.raises(LimitError, match="omega = 1e\\+300"):
         ls.frequency_response(_scene([["1"]], [["1"]], [["1"]]), [1e300])
+
+
+def test_float_modes_of_an_undamped_scene_have_zero_damping() -> None:
+    """M = diag(√2, 1), K = [[1, −1], [−1, 1]], no damping (irrational: the float64 route):
+    det(K − μM) = √2μ² − (1 + √2)μ, so ω² = 1 + 1/√2 and a rigid mode; ζ was −2.3e-17 (a
+    negative damping ratio on an undamped scene), it is 0."""
+    mp.mp.dps = 40
+    scene = ls.Scene.from_matrices(M=[["sqrt(2)", 0], [0, 1]], K=[[1, -1], [-1, 1]],
+                                   x0=[0, 0], v0=[0, 0])
+    rigid, mode = ls.modes(scene)
+    assert rigid.kind == "rigid" and mode.kind == "oscillatory"
+    assert mode.damping_ratio == 0
+    omega = mp.sqrt(1 + 1 / mp.sqrt(2))
+    assert abs(mp.mpf(str(mode.natural_frequency)) - omega) <= 1e-14 * omega
+    assert abs(mp.mpf(str(mode.damped_frequency)) - omega) <= 1e-14 * omega

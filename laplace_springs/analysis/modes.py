@@ -189,6 +189,7 @@ def float_modes(scene: Scene) -> tuple[Mode, ...]:
     [0.76536686473, 1.414213562373, 1.847759065023]
     """
     pairs = float_eigenpairs(scene)
+    symmetric = scene.M.is_symmetric() and scene.K.is_symmetric()
     top = max((abs(value) for value, _ in pairs), default=0.0)
     out: list[Mode] = []
     seen_rigid: list[np.ndarray] = []
@@ -200,13 +201,24 @@ def float_modes(scene: Scene) -> tuple[Mode, ...]:
             real = shape.real.astype(complex) if np.all(shape.imag == 0) else shape
             out.append(Mode(sp.S.Zero, "rigid", sp.S.Zero, sp.S.Zero, None, 2, (real,)))
             continue
+        if not scene.is_damped and symmetric:  # λ² is real: λ = ±iω or real, never ζ ≠ 0
+            value = _undamped(value)  # noqa: PLW2901
         wn = abs(value)
         kind: ModeKind = "real" if value.imag == 0 else "oscillatory"
-        zeta = sp.Float(-value.real / wn, 15) if kind == "oscillatory" else None
+        zeta = (sp.S.Zero if value.real == 0 else sp.Float(-value.real / wn, 15)) \
+            if kind == "oscillatory" else None
         eigenvalue = sp.Float(value.real, 15) + sp.I * sp.Float(value.imag, 15)
         out.append(Mode(eigenvalue, kind, sp.Float(wn, 15), sp.Float(value.imag, 15), zeta, 1,
                         (shape,)))
     return tuple(sorted(out, key=lambda m: (float(m.natural_frequency), float(m.damped_frequency))))
+
+
+def _undamped(value: complex) -> complex:
+    """An eigenvalue of an undamped symmetric scene (λ² real) without the rounding that
+    gave it a real part next to its imaginary one (ζ = −2.3e-17) or the reverse."""
+    if abs(value.imag) >= abs(value.real):
+        return complex(0.0, abs(value.imag))
+    return complex(value.real, 0.0)
 
 
 def _undamped_modes(scene: Scene, determinant: sp.Poly) -> list[Mode]:
