@@ -51,6 +51,7 @@ from .planning.facts import scene_facts
 from .planning.plan import Plan
 from .planning.plan import plan as plan_request
 from .planning.request import DEFAULT_REQUEST, Request, request_for
+from .planning.standing import standing_covers, standing_seconds
 from .policy import Verdict, check_target, reference_scale
 
 __all__ = ["Solution", "Verification", "DEFAULT_SAMPLES", "t"]
@@ -156,10 +157,22 @@ class Solution(ABC):
     #: The route: "exact", "modal" or "certified".
     method: ClassVar[str] = ""
 
-    def __init__(self, scene: Scene, *, reason: str, target: float | None = None) -> None:
+    def __init__(self, scene: Scene, *, reason: str | None, target: float | None = None) -> None:
         self.scene = scene
-        self.reason = reason
+        self._reason = reason
         self.target = check_target(target)
+
+    @property
+    def reason(self) -> str:
+        """Why this route was taken: the reason of the plan that chose it (made on first
+        use where ``solve`` took the standing plan, :mod:`laplace_springs.planning.standing`)."""
+        if self._reason is None:
+            self._reason = self._plan(DEFAULT_REQUEST).reason
+        return self._reason
+
+    @reason.setter
+    def reason(self, text: str) -> None:
+        self._reason = text
 
     # -- the contract -----------------------------------------------------------------
     @property
@@ -249,6 +262,22 @@ class Solution(ABC):
         n = self.scene.n
         _check_size(len(T), n)
         goal = self.target if target is None else check_target(target)  # ours: checked
+        if self._standing and order == 0 and dps is None and not return_report \
+                and _quiet(progress, self.scene, len(T)) \
+                and (found := self._standing_values(T, goal)) is not None:
+            values, bounds = found
+        else:
+            values, bounds, report = self._planned_values(T, order, goal, dps, progress)
+        if units:  # Quantities in the scene's units or the unit asked for
+            values, bounds = (attach_units(a, self.scene, order, units) for a in (values, bounds))
+        out = (values, bounds) if return_error else (values,)
+        out = (*out, report) if return_report else out
+        return out if len(out) > 1 else out[0]
+
+    def _planned_values(self, T: Times, order: int, goal: float, dps: int | None,
+                        progress: bool | None) -> tuple[np.ndarray, np.ndarray, EvaluationReport]:
+        """Values, bounds and the report of :meth:`evaluate` from the plan of its request."""
+        n = self.scene.n
         request = request_for(T, target=goal, dps=None if dps is None else check_dps(dps),
                               order=order)
         plan = self._plan(request)
@@ -263,14 +292,31 @@ class Solution(ABC):
                     progress=progress)
                 sizes = np.abs(values)
             _check_float_result(verdict, sizes, T, report, goal, order)
-            # the executor's own arrays: floored in place
-            bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
-            bounds += _TINY
-        if units:  # Quantities in the scene's units or the unit asked for
-            values, bounds = (attach_units(a, self.scene, order, units) for a in (values, bounds))
-        out = (values, bounds) if return_error else (values,)
-        out = (*out, report) if return_report else out
-        return out if len(out) > 1 else out[0]
+            bounds = _floored(bounds, sizes)
+        return values, bounds, report
+
+    #: True where ``solve`` took the standing plan: the solution's own engine is the primary
+    #: of every float64 request of x (:mod:`laplace_springs.planning.standing`).
+    _standing: bool = False
+
+    def _standing_values(self, times: Times, target: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """x at ``times`` from the solution's own engine alone, when every bound is within
+        target·S₀ (so within the target of every time's scale, and no time is pending) and
+        every value within float64's range: what executing the plan gives then, without
+        planning. None otherwise (the request is planned and executed in full)."""
+        if not standing_covers(len(times)):
+            return None
+        floor = self._floor(0)
+        if not floor > 0:
+            return None
+        with np.errstate(all="ignore"):
+            evaluator: Any = self._evaluator(self.method)  # the primary, as executed
+            values, bounds = (np.array(a, dtype=float) for a in evaluator(times, 0, target))
+            sizes = np.abs(values)
+            if not (float(bounds.max()) / floor <= target
+                    and float(sizes.max()) <= _HUGE):  # NaN fails both
+                return None
+        return values, _floored(bounds, sizes)
 
     def plan(self, times: Any = None, *, target: float | None = None, dps: int | None = None,
              derivative: int = 0) -> Plan:
@@ -582,6 +628,22 @@ class Solution(ABC):
             names = ", ".join(sorted(str(v) for v in self.scene.free_symbols))
             raise SceneError(f"evaluate needs numbers, but the scene has the parameters {names}; "
                              "build the scene with values for them")
+
+
+def _quiet(progress: bool | None, scene: Scene, count: int) -> bool:
+    """Whether an evaluation of ``count`` times on the standing plan shows no progress bar
+    (as the executor decides from the plan's estimate)."""
+    if progress is None:
+        return standing_seconds(scene, count) <= limits().progress_after_seconds
+    return not progress
+
+
+def _floored(bounds: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Bounds raised in place to Limits.min_relative_bound of the values' sizes, plus the
+    smallest subnormal (a returned bound is never 0)."""
+    bounds = np.maximum(bounds, limits().min_relative_bound * sizes, out=bounds)
+    bounds += _TINY
+    return bounds
 
 
 def _check_size(count: int, n: int) -> None:

@@ -32,6 +32,7 @@ from .planning.execute import BUILDERS, relative_bounds
 from .planning.facts import scene_facts
 from .planning.plan import FAMILIES, METHODS, Plan, plan
 from .planning.request import DEFAULT_REQUEST, request_for
+from .planning.standing import standing_engine
 from .policy import check_target
 from .routes.engines import solution_for
 from .routes.sampled import solve_sampled
@@ -94,6 +95,8 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     if scene.sampled is not None:  # measured histories: the rest by `method`, then their response
         base = solve(formula_part(scene), method=method, target=target)
         return solve_sampled(scene, target, base=base)
+    if (standing := _standing_solution(scene, method, target)) is not None:
+        return standing
     facts = scene_facts(scene, method)
     if facts.symbolic and method not in ("auto", "exact", "mp"):
         raise SceneError(f"the {method} route needs numbers, but these entries are symbolic: "
@@ -101,6 +104,23 @@ def solve(scene: Scene, *, method: str = "auto", target: float | None = None) ->
     # an engine's overflow is its refusal or an infinite bound, never a NumPy warning
     with np.errstate(all="ignore"):
         return _planned_solution(scene, facts, method, target)
+
+
+def _standing_solution(scene: Scene, method: str, target: float) -> Solution | None:
+    """The solution of the standing plan's engine (:mod:`laplace_springs.planning.standing`)
+    when it holds for the scene and the engine's bound meets the target at the probe times,
+    as the plan's first engine would be taken; else None (the plan decides). Its reason is
+    the default plan's, made when first asked."""
+    name = standing_engine(scene, method)
+    if name is None:
+        return None
+    with np.errstate(all="ignore"):
+        solution = _build(name, scene, None, target)
+        if isinstance(solution, Refusal) or not _probe(solution, target) <= target:
+            return None
+    solution.requested = method
+    solution._standing = True
+    return solution
 
 
 def _planned_solution(scene: Scene, facts: Any, method: str, target: float) -> Solution:
@@ -167,12 +187,14 @@ def _dropped_initial_data(solution: Solution) -> list[str]:
     return notes
 
 
-def _build(name: str, scene: Scene, chosen: Plan, target: float,
+def _build(name: str, scene: Scene, chosen: Plan | None, target: float,
            method: str = "auto") -> Solution | Refusal:
     """The solution whose own engine is ``name``, or why float64 cannot hold the scene (or,
-    for "auto", why the exact route cannot: the plan's next engine may serve)."""
+    for "auto", why the exact route cannot: the plan's next engine may serve). Without a
+    plan, its reason is made when first asked."""
     try:
-        return solution_for(name, scene, reason=chosen.reason, target=target)
+        return solution_for(name, scene, reason=None if chosen is None else chosen.reason,
+                            target=target)
     except (FloatRangeError, np.linalg.LinAlgError) as exc:
         return Refusal(name, f"cannot hold the scene in float64: {exc}")
     except InversionError as exc:  # the exact route's own limits (a factor's degree)

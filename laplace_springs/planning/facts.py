@@ -32,7 +32,8 @@ from ..numeric.first_order import (
 from ..numeric.krylov import krylov_refusal
 from ..numeric.krylov_entries import entries_of
 from ..numeric.refined import refined_cost, refined_refusal
-from ..numeric.tiny import tiny_cost, tiny_data, tiny_refusal
+from ..numeric.tiny import tiny_cost, tiny_refusal
+from .standing import tiny_scene
 
 __all__ = ["SceneFacts", "Quote", "scene_facts"]
 
@@ -195,11 +196,8 @@ def _tiny_facts(scene: Scene) -> SceneFacts | None:
     symbols, an invertible M, so a first-order form and no massless node; the damping
     class and the krylov checks not asked) without reading the scene again, which is a
     fifth of a tiny scene's whole solve."""
-    if scene.forcing is not None or scene.sampled is not None \
-            or scene.n > limits().tiny_max_coordinates:
-        return None
-    data = tiny_data(scene)
-    if isinstance(data, str):
+    data = tiny_scene(scene)
+    if data is None:
         return None
     M = data.M
     return SceneFacts(n=data.n, symbolic=False, forced=False, rational=True, first_order=True,

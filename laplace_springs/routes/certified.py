@@ -32,7 +32,7 @@ class CertifiedSolution(Solution):
     method = "certified"
     _escalation_engine = "ball"
 
-    def __init__(self, scene: Scene, poles: CertifiedPoles, *, reason: str,
+    def __init__(self, scene: Scene, poles: CertifiedPoles, *, reason: str | None,
                  target: float | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.certified = poles

@@ -81,7 +81,7 @@ def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
 
 #: The float64 engines hosted by a solution class of their own:
 #: name -> (scene, reason, target) -> Solution.
-def _classical(scene: Any, reason: str, target: float) -> Solution | Refusal:
+def _classical(scene: Any, reason: str | None, target: float) -> Solution | Refusal:
     """The symmetric eigen engine; rigid-body motion (a zero frequency) goes to the general
     modal engine, which splits it off exactly, where that engine takes the scene."""
     motion = classical_motion(scene)
@@ -95,7 +95,7 @@ def _classical(scene: Any, reason: str, target: float) -> Solution | Refusal:
     return ModalSolution(scene, motion, reason=reason, target=target)
 
 
-_FLOAT_SOLUTIONS: dict[str, Callable[[Any, str, float], Solution | Refusal]] = {
+_FLOAT_SOLUTIONS: dict[str, Callable[[Any, str | None, float], Solution | Refusal]] = {
     "classical": _classical,
     "chebyshev": lambda scene, reason, target: ModalSolution(
         scene, chebyshev_motion(scene), reason=reason, target=target),
@@ -156,7 +156,7 @@ def _builder(name: str) -> Callable[[Solution], Evaluator | Refusal]:
     return build
 
 
-def solution_for(name: str, scene: Any, *, reason: str, target: float) -> Solution | Refusal:
+def solution_for(name: str, scene: Any, *, reason: str | None, target: float) -> Solution | Refusal:
     """A new solution whose own engine is ``name``, or the engine's refusal found while
     building (raises what building raises: FloatRangeError, LinAlgError)."""
     if name in ("exact", "mp"):

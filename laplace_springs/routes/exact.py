@@ -63,7 +63,7 @@ class ExactSolution(Solution):
     method = "exact"
     _escalation_engine = "mp"
 
-    def __init__(self, motion: ExactMotion, *, reason: str, target: float | None = None) -> None:
+    def __init__(self, motion: ExactMotion, *, reason: str | None, target: float | None = None) -> None:
         super().__init__(motion.scene, reason=reason, target=target)
         self.motion = motion
 

@@ -40,7 +40,7 @@ class KrylovSolution(Solution):
 
     method = "krylov"
 
-    def __init__(self, scene: Scene, motion: KrylovMotion, *, reason: str,
+    def __init__(self, scene: Scene, motion: KrylovMotion, *, reason: str | None,
                  target: float | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.motion = motion

@@ -39,7 +39,7 @@ class ModalSolution(Solution):
     (:mod:`laplace_springs.planning`).
     """
 
-    def __init__(self, scene: Scene, motion: Any, *, reason: str,
+    def __init__(self, scene: Scene, motion: Any, *, reason: str | None,
                  target: float | None = None, certified: CertifiedPoles | None = None) -> None:
         super().__init__(scene, reason=reason, target=target)
         self.motion = motion
