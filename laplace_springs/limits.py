@@ -368,12 +368,19 @@ class Limits:
 #: The limits the package ships with.
 DEFAULT_LIMITS = Limits()
 
-_STATE = threading.local()
+class _State(threading.local):
+    """The limits in force in each thread (a class attribute: the defaults in every thread
+    until :func:`using_limits` sets its own, read without a failed lookup)."""
+
+    current: Limits = DEFAULT_LIMITS
+
+
+_STATE = _State()
 
 
 def limits() -> Limits:
     """The limits in force (the defaults unless :func:`using_limits` is active)."""
-    return getattr(_STATE, "current", DEFAULT_LIMITS)
+    return _STATE.current
 
 
 @contextlib.contextmanager
