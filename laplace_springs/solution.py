@@ -165,9 +165,11 @@ class Solution(ABC):
     @property
     def reason(self) -> str:
         """Why this route was taken: the reason of the plan that chose it (made on first
-        use where ``solve`` took the standing plan, :mod:`laplace_springs.planning.standing`)."""
+        use where ``solve`` took the standing plan, :mod:`laplace_springs.planning.standing`:
+        the plan ``solve`` makes first, for the default request)."""
         if self._reason is None:
-            self._reason = self._plan(DEFAULT_REQUEST).reason
+            self._reason = plan_request(scene_facts(self.scene, self.requested), DEFAULT_REQUEST,
+                                        method=self.requested, available=BUILDERS).reason
         return self._reason
 
     @reason.setter

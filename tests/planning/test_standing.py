@@ -14,11 +14,10 @@ import numpy as np
 import pytest
 
 import laplace_springs as ls
+from laplace_springs import solving  # fills BUILDERS
 from laplace_springs.planning import Request, plan, scene_facts
 from laplace_springs.planning.execute import BUILDERS
-from laplace_springs.planning.request import DEFAULT_REQUEST
 from laplace_springs.planning.standing import STANDING_MAX_COUNT, standing_engine
-from laplace_springs.solving import solve  # noqa: F401  (fills BUILDERS)
 
 
 def _random_scene(rng: random.Random) -> ls.Scene:
@@ -69,7 +68,7 @@ def _planned(sol: ls.Solution, times, **kw):
 
 
 @pytest.mark.parametrize("seed", range(12))
-def test_a_standing_solution_is_the_planned_one(seed):
+def test_a_standing_solution_is_the_planned_one(seed, monkeypatch):
     rng = random.Random(100 + seed)
     scene = _random_scene(rng)
     sol = ls.solve(scene)
@@ -77,9 +76,11 @@ def test_a_standing_solution_is_the_planned_one(seed):
         assert "tiny" in sol.excluded and "tiny: its own bound" in sol.reason
         return
     assert sol.method == "tiny" and sol.requested == "auto"
-    facts = scene_facts(scene)
-    built, available = sol._engine_sets
-    assert sol.reason == plan(facts, DEFAULT_REQUEST, built=built, available=available).reason
+    with monkeypatch.context() as patched:  # the same scene solved without the shortcut
+        patched.setattr(solving, "standing_engine", lambda scene, method: None)
+        planned = ls.solve(_random_scene(random.Random(100 + seed)))
+    assert not planned._standing and planned.method == "tiny"
+    assert sol.reason == planned.reason and sol.excluded == planned.excluded
     times = np.sort(np.array([rng.uniform(0, 30) for _ in range(20)] + [0.0]))
     values, bounds = sol.evaluate(times, return_error=True)
     planned, planned_bounds, report = _planned(sol, times)
