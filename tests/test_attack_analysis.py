@@ -91,30 +91,92 @@ def test_frequency_response_near_resonance(M: list[list[str]], C: list[list[str]
         assert error <= 1e-15 * size, (w, float(error / size))
 
 
+_CHAIN_K = [["0.1", "-0.1", "0"], ["-0.1", "0.8", "-0.7"], ["0", "-0.7", "0.7"]]
+_CHAIN_C = [["0.1", "-0.1", "0"], ["-0.1", "0.3", "-0.2"], ["0", "-0.2", "0.2"]]
+_EYE3 = [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]]
+
+
 @pytest.mark.parametrize(("M", "C", "K", "w"), [
     # free-free, damped, at ω = 0 (the message said "an undamped scene")
     ([["1", "0"], ["0", "1"]], [["0.1", "-0.1"], ["-0.1", "0.1"]], [["1", "-1"], ["-1", "1"]], 0.0),
     # free-free chain whose K rounds to a nonsingular float64 matrix (0.1 + 0.7 ≠ 0.8):
-    # H(0) came back as about 1e16 (garbage), at ω = 1e-12 as a wrong finite value
-    ([["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]], [["0"] * 3] * 3,
-     [["0.1", "-0.1", "0"], ["-0.1", "0.8", "-0.7"], ["0", "-0.7", "0.7"]], 0.0),
-    ([["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]], [["0"] * 3] * 3,
-     [["0.1", "-0.1", "0"], ["-0.1", "0.8", "-0.7"], ["0", "-0.7", "0.7"]], 1e-12),
-    # two masses, undamped, at float64's natural frequency (cond about 1e16)
-    ([["3", "0"], ["0", "1"]], [["0", "0"], ["0", "0"]], [["7.3", "-2.1"], ["-2.1", "2.1"]],
-     1.8682890524164226),
+    # H(0) came back as about 1e16 (garbage)
+    (_EYE3, [["0"] * 3] * 3, _CHAIN_K, 0.0),
+    (_EYE3, _CHAIN_C, _CHAIN_K, 0.0),
+    ([["sqrt(2)", "0", "0"], ["0", "1", "0"], ["0", "0", "pi"]], _CHAIN_C, _CHAIN_K, 0.0),
+    # ω exactly an undamped natural frequency: rational (k/m = 4) and irrational (k = m = √2)
+    ([["1"]], [["0"]], [["4"]], 2.0),
+    ([["sqrt(2)"]], [["0"]], [["sqrt(2)"]], 1.0),
 ])
 def test_frequency_response_singular_says_so(M: list[list[str]], C: list[list[str]],
                                              K: list[list[str]], w: float) -> None:
-    """A pencil singular at float64 precision is refused, naming ω; never a value."""
-    with pytest.raises(SceneError, match=rf"omega = {w!r}.*singular"):
+    """A pencil that is exactly singular is refused, naming ω and the cause; never a value."""
+    cause = "rigid-body mode" if w == 0 else "natural frequency of an undamped mode"
+    with pytest.raises(SceneError, match=rf"omega = {w!r}.*singular.*{cause}"):
         ls.frequency_response(_scene(M, C, K), [1.0, w])
 
 
+def _exact_entry(text: str) -> mp.mpf:
+    """An entry of the tests' matrices in mpmath at the working precision."""
+    named = {"sqrt(2)": mp.sqrt(2), "pi": mp.pi}
+    if text in named:
+        return +named[text]
+    q = Fraction(text)
+    return mp.mpf(q.numerator) / q.denominator
+
+
+def _receptance_at(M: list[list[str]], C: list[list[str]], K: list[list[str]], w: float) -> mp.matrix:
+    """(K − ω²M + iωC)⁻¹ in mpmath, ω the float64 number exactly, at the working precision."""
+    n = len(M)
+    q = mp.mpf(w)
+    return mp.matrix([[_exact_entry(K[i][j]) - q * q * _exact_entry(M[i][j]) + 1j * q * _exact_entry(C[i][j])
+                       for j in range(n)] for i in range(n)])**-1
+
+
+@pytest.mark.parametrize(("M", "C", "K", "omegas", "entrywise"), [
+    # free-free chain (K entries 0.1, 0.8, 0.7, no walls), damped and undamped: refused as
+    # "singular at float64 precision" below ω ≈ 1e-7 (cond ≈ 1/ω²), though H exists for ω > 0
+    (_EYE3, _CHAIN_C, _CHAIN_K, [1e-12, 1e-8, 1e-20, 1e-100, 1e-150, 0.5], True),
+    (_EYE3, [["0"] * 3] * 3, _CHAIN_K, [1e-12, 1e-8, 1e-20, 1e-100], True),
+    # a chain with irrational masses (certified balls, normwise)
+    ([["sqrt(2)", "0", "0"], ["0", "1", "0"], ["0", "0", "pi"]], _CHAIN_C, _CHAIN_K,
+     [1e-12, 1e-8, 1e-20, 1e-100], False),
+    # two masses, undamped, at float64's nearest to a natural frequency (cond about 1e16):
+    # exactly nonsingular, H about 7e14
+    ([["3", "0"], ["0", "1"]], [["0", "0"], ["0", "0"]], [["7.3", "-2.1"], ["-2.1", "2.1"]],
+     [1.8682890524164226, 1.0211901634633378], True),
+])
+def test_frequency_response_where_float64_is_singular(M: list[list[str]], C: list[list[str]],
+                                                      K: list[list[str]], omegas: list[float],
+                                                      entrywise: bool) -> None:
+    """H(iω) where the pencil is singular at float64 precision but not exactly: against
+    (K − ω²M + iωC)⁻¹ in mpmath at 50 digits plus five per decade of 1/ω (cond ≈ 1/ω², and
+    an imaginary part about ω³ times the real one).
+    Rational scenes are solved exactly: each real and imaginary part correctly rounded
+    (within one ulp here); irrational ones within 2⁻⁵⁰ of max |H|."""
+    H = ls.frequency_response(_scene(M, C, K), omegas)
+    n = len(M)
+    for k, w in enumerate(omegas):
+        with mp.workdps(50 + 5 * max(0, int(-mp.log10(w)))):
+            R = _receptance_at(M, C, K, w)
+            size = max(abs(R[i, j]) for i in range(n) for j in range(n))
+            for i in range(n):
+                for j in range(n):
+                    got = complex(H[k, i, j])
+                    for part, ref in ((got.real, mp.re(R[i, j])), (got.imag, mp.im(R[i, j]))):
+                        if entrywise:
+                            assert abs(part - ref) <= 2.0**-52 * abs(ref), (w, i, j, part, ref)
+                        else:
+                            assert abs(part - ref) <= 2.0**-50 * size, (w, i, j, part, ref)
+
+
 def test_frequency_response_beyond_float64_range() -> None:
-    """|H| = 1e-600 at ω = 1e300 is no float64 number: a LimitError naming ω."""
+    """|H| = 1e-600 at ω = 1e300 is no float64 number: a LimitError naming ω; so is
+    |H| ≈ 1/(3ω²) ≈ 3e599 at ω = 1e-300 on the free-free chain (found exactly)."""
     with pytest.raises(LimitError, match="omega = 1e\\+300"):
         ls.frequency_response(_scene([["1"]], [["1"]], [["1"]]), [1e300])
+    with pytest.raises(LimitError, match=r"omega = 1e-300.*1e\+599"):
+        ls.frequency_response(_scene(_EYE3, _CHAIN_C, _CHAIN_K), [1.0, 1e-300])
 
 
 def test_float_modes_of_an_undamped_scene_have_zero_damping() -> None:

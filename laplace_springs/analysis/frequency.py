@@ -35,6 +35,7 @@ from ..model.symbols import OMEGA, lam
 from ..model.units import frequencies_to_rad_per_second
 from ..numeric.first_order import float_matrix
 from ..numeric.mp_expr import numeric_value
+from .exact_pencil import ExactPencil
 
 __all__ = ["omega", "frequency_response", "steady_state_amplitude", "transmissibility",
            "transmissibility_function"]
@@ -70,6 +71,21 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
         (len(omegas), n, n) with ``H[k, i, j]`` the response of coordinate i to a unit
         harmonic force on coordinate j at ``omegas[k]``.
 
+    Raises
+    ------
+    SceneError
+        At ω = 0 on a scene with a rigid-body mode (K singular), or at ω exactly a natural
+        frequency of an undamped mode: the pencil is singular, the response unbounded.
+    LimitError
+        Where |H| is beyond the float64 range.
+
+    Notes
+    -----
+    Values are within a few units of float64 rounding of max |H(iω)| (normwise). Where
+    the pencil is singular at float64 precision but not exactly (near ω = 0 on a free
+    scene, at a float64 number next to an undamped natural frequency) it is solved
+    exactly (:mod:`laplace_springs.analysis.exact_pencil`).
+
     Examples
     --------
     A single mass, spring and dashpot: H = 1/(k − mω² + icω):
@@ -80,6 +96,14 @@ def frequency_response(scene: Scene, omegas: ArrayLike | None = None) -> sp.Immu
     1/(-omega**2 + I*omega/5 + 4)
     >>> float(abs(frequency_response(scene, [2.0])[0, 0, 0]))  # at resonance: 1/(cω) = 2.5
     2.5
+
+    Two free masses joined by a spring k = 1/10 (a rigid-body mode): at ω = 1e-12,
+    H₀₀ = (k − ω²)/(ω²(ω² − 2k)) ≈ −1/(2ω²):
+
+    >>> free = Scene.from_matrices(M=[[1, 0], [0, 1]], K=[["0.1", "-0.1"], ["-0.1", "0.1"]],
+    ...                            x0=[0, 0], v0=[0, 0])
+    >>> float(frequency_response(free, [1e-12])[0, 0, 0].real)
+    -5e+23
     """
     if omegas is None:
         R = resolvent(scene)
@@ -134,22 +158,33 @@ def _solve_pencils(scene: Scene, w: np.ndarray, columns: int,
     from the exact entries (near a natural frequency K − ω²M cancels: rounded ω² or
     entries would leave an error of u‖K‖ against a pencil of size ζ‖K‖), solved in
     float64 and refined with residuals summed in double-double until the correction is
-    below the float64 rounding. A pencil that is singular at float64 precision (an
-    undamped mode driven at its natural frequency, a rigid-body mode at ω = 0: refinement
-    does not converge) is a SceneError naming the frequency, and a value that underflows
-    (|H| below about 1e-308 where the scaled solution is not zero) a LimitError, never NaN,
-    a silent zero or a value ruled by rounding. The result (frequencies x n x columns) is
+    below the float64 rounding. Where refinement does not converge (the pencil is singular
+    at float64 precision: near ω = 0 on a scene with a rigid-body mode, at an undamped
+    natural frequency rounded to float64) the pencil is solved exactly instead
+    (:class:`~laplace_springs.analysis.exact_pencil.ExactPencil`: over the rationals, or in
+    certified balls for irrational entries). A pencil that is exactly singular (ω = 0 with
+    a rigid-body mode, ω exactly an undamped natural frequency) is a SceneError naming the
+    frequency, and a value beyond the float64 range (|H| above about 1e308, or below about
+    1e-308 where the solution is not zero) a LimitError, never NaN, a silent zero or a
+    value ruled by rounding. The result (frequencies x n x columns) is
     held to Limits.max_evaluation_values before any work, and the pencils are formed and
     solved in chunks of about Limits.evaluation_chunk_values numbers.
     """
     n = scene.n
     _check_size(w.size, n * columns, caller)
     parts = [_dd_matrix(getattr(scene, name), name) for name in ("M", "C", "K")]
+    exact: list[ExactPencil] = []  # built the first time float64 cannot resolve a pencil
+
+    def solve_exactly(k: float, B: np.ndarray) -> np.ndarray:
+        if not exact:
+            exact.append(ExactPencil(scene.M, scene.C, scene.K))
+        return exact[0].solve(k, B, caller)
+
     out = np.empty((w.size, n, columns), dtype=complex)
     step = max(1, limits().evaluation_chunk_values // (n * max(n, columns)))
     for start in range(0, w.size, step):
         part = slice(start, start + step)
-        out[part] = _solve_chunk(parts, w[part], rhs(w[part]), caller)
+        out[part] = _solve_chunk(parts, w[part], rhs(w[part]), solve_exactly, caller)
     return out
 
 
@@ -204,26 +239,32 @@ def _residual(B: np.ndarray, pencil: tuple[np.ndarray, ...], X: np.ndarray) -> n
 
 
 def _solve_chunk(parts: list[tuple[np.ndarray, np.ndarray]], w: np.ndarray, rhs: np.ndarray,
-                 caller: str) -> np.ndarray:
+                 solve_exactly: Callable[[float, np.ndarray], np.ndarray], caller: str) -> np.ndarray:
     """One chunk of :func:`_solve_pencils`."""
     real_h, real_l, imag_h, imag_l, scale = _pencil(parts, w)
     pencils = real_h + 1j * imag_h
     B = np.asarray(rhs, dtype=complex)
+    unresolved = np.zeros(w.size, dtype=bool)
     try:
         scaled = np.linalg.solve(pencils, B)
-    except np.linalg.LinAlgError:  # name the first frequency whose pencil is singular
+    except np.linalg.LinAlgError:  # some pencil is singular in float64: solve the others
+        scaled = np.zeros_like(B)
         for k in range(w.size):
             try:
-                np.linalg.solve(pencils[k], B[k])
+                scaled[k] = np.linalg.solve(pencils[k], B[k])
             except np.linalg.LinAlgError:
-                raise SceneError(_singular(caller, float(w[k]))) from None
-        raise
-    scaled = _refine(pencils, (real_h, real_l, imag_h, imag_l), B, scaled, w, caller)
+                unresolved[k] = True
+    scaled, stalled = _refine(pencils, (real_h, real_l, imag_h, imag_l), B, scaled, ~unresolved)
+    unresolved |= stalled
     with np.errstate(under="ignore"):
         value = scaled / scale[:, None, None] / scale[:, None, None]
     largest = np.max(np.abs(value), axis=(1, 2), initial=0.0)
     lost = (largest < np.finfo(float).tiny) & np.any(scaled != 0, axis=(1, 2))  # all of it underflowed
-    bad = np.flatnonzero(~np.all(np.isfinite(value), axis=(1, 2)) | lost)
+    bad = np.flatnonzero((~np.all(np.isfinite(value), axis=(1, 2)) | lost) & ~unresolved)
+    for index in np.flatnonzero(unresolved):  # in order, so the first refusal is named
+        if bad.size and bad[0] < index:
+            break
+        value[index] = solve_exactly(float(w[index]), B[index])
     if bad.size:
         k = int(bad[0])
         raise LimitError(f"{caller}: at omega = {float(w[k])!r} the response is beyond the float64 "
@@ -233,46 +274,32 @@ def _solve_chunk(parts: list[tuple[np.ndarray, np.ndarray]], w: np.ndarray, rhs:
 
 
 def _refine(pencils: np.ndarray, pencil: tuple[np.ndarray, ...], B: np.ndarray, X: np.ndarray,
-            w: np.ndarray, caller: str) -> np.ndarray:
-    """Iterative refinement of P X = B with double-double residuals: each step divides the
-    error by about u·cond(P); a correction that does not shrink below u‖X‖ within
-    _REFINE_STEPS steps (cond(P) ≳ 1/(10u): the pencil is singular at float64 precision)
-    is a SceneError naming the frequency."""
-    size = np.max(np.abs(X), axis=(1, 2))
-    done = ~np.isfinite(size) | (size == 0)
-    previous = np.full(w.size, np.inf)
+            todo_mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Iterative refinement of P X = B with double-double residuals for the pencils in
+    ``todo_mask``: each step divides the error by about u·cond(P). Returns X and a mask of
+    the pencils whose correction did not shrink below u‖X‖ within _REFINE_STEPS steps
+    (cond(P) ≳ 1/(10u): the pencil is singular at float64 precision)."""
+    size = np.max(np.abs(X), axis=(1, 2), initial=0.0)
+    stalled = todo_mask & ~np.isfinite(size)  # float64 solving overflowed
+    done = ~todo_mask | stalled | (size == 0)
+    previous = np.full(X.shape[0], np.inf)
     for _ in range(_REFINE_STEPS):
         todo = np.flatnonzero(~done)
         if not todo.size:
-            return X
+            break
         residual = _residual(B[todo], tuple(p[todo] for p in pencil), X[todo])
         with np.errstate(over="ignore", invalid="ignore"):
             correction = np.linalg.solve(pencils[todo], residual)
         X[todo] = X[todo] + correction
-        change = np.max(np.abs(correction), axis=(1, 2))
-        size = np.max(np.abs(X[todo]), axis=(1, 2))
+        change = np.max(np.abs(correction), axis=(1, 2), initial=0.0)
+        size = np.max(np.abs(X[todo]), axis=(1, 2), initial=0.0)
         with np.errstate(invalid="ignore"):
-            stalled = ~(change <= 0.5 * previous[todo]) | ~np.isfinite(size)
+            stuck = ~(change <= 0.5 * previous[todo]) | ~np.isfinite(size)
         converged = change <= 4 * _U * size
-        if np.any(stalled & ~converged):
-            k = int(todo[np.flatnonzero(stalled & ~converged)[0]])
-            raise SceneError(_singular(caller, float(w[k])))
+        stalled[todo[stuck & ~converged]] = True
         previous[todo] = change
-        done[todo] = converged
-    if not done.all():
-        raise SceneError(_singular(caller, float(w[int(np.flatnonzero(~done)[0])])))
-    return X
-
-
-def _singular(caller: str, w: float) -> str:
-    """What a singular pencil at ω means."""
-    if w == 0:
-        return (f"{caller}: omega = 0.0: K is singular, a rigid-body mode (the scene is free to "
-                "drift: a static force moves it without bound); ask for omega > 0")
-    return (f"{caller}: omega = {w!r}: K - omega^2 M + i omega C is singular at float64 "
-            "precision (condition number beyond about 1e15): omega is a natural frequency of an "
-            "undamped mode (resonance: the response grows without bound), or close to 0 on a "
-            "scene with a rigid-body mode; float64 solving cannot resolve the response there")
+        done[todo] = converged | stuck
+    return X, stalled | ~done
 
 
 #: Refinement steps of :func:`_refine` (each gains about log10(1/(u·cond)) digits).
