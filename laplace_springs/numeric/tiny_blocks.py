@@ -454,7 +454,7 @@ class BlockMotion:
                    + U * R_norm)
         phi = (F_norm + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
-        c_norm = math.sqrt(sum(z.real * z.real + z.imag * z.imag for z in coefficients))
+        c_norm = math.hypot(*map(abs, coefficients))
         y0_norm = self.y0_norm
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
         r0 = _norm(X_long @ c.astype(np.clongdouble) - self.y0)
