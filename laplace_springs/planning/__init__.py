@@ -4,6 +4,7 @@
 * :mod:`.request`: what a caller asks (:class:`Request`);
 * :mod:`.engines`: the engines' table: what each serves, at what cost;
 * :mod:`.plan`: :func:`plan`, the one pure decision;
+* :mod:`.standing`: the plan known before it is made (a tiny scene's requests of x);
 * :mod:`.execute`: running a plan with per-time escalation (:func:`execute`).
 
 ``ls.plan(scene, times)`` (:func:`laplace_springs.solving.plan_for`) shows the plan for a
