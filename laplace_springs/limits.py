@@ -158,6 +158,11 @@ class Limits:
     exact_expanded_max_degree: int = 4
     #: ``modes`` is exact up to this many coordinates for rational scenes.
     modes_exact_max_coordinates: int = 40
+    #: Up to this many coordinates, ``modes`` of a scene with irrational entries decides
+    #: exactly which clustered float eigenvalues are one multiple root (the squarefree
+    #: decomposition of Δ over QQ<√2>-like fields: Δ itself takes 0.05 s at 4 coordinates,
+    #: 0.5 s at 8, and is refused by max_resolvent_terms at 12 on two √2 chains).
+    modes_multiple_root_max_coordinates: int = 8
     #: Up to this many coordinates the text summary takes the exact modes.
     exact_modes_max_coordinates: int = 8
     #: Times at which "auto" checks the modal route's own bound before it keeps it.

@@ -11,6 +11,7 @@ from fractions import Fraction
 import mpmath as mp
 import numpy as np
 import pytest
+import sympy as sp
 
 import laplace_springs as ls
 from laplace_springs.model.errors import LimitError, SceneError
@@ -192,3 +193,70 @@ def test_float_modes_of_an_undamped_scene_have_zero_damping() -> None:
     omega = mp.sqrt(1 + 1 / mp.sqrt(2))
     assert abs(mp.mpf(str(mode.natural_frequency)) - omega) <= 1e-14 * omega
     assert abs(mp.mpf(str(mode.damped_frequency)) - omega) <= 1e-14 * omega
+
+
+def _eigenvalue_count(found: tuple) -> int:
+    """Eigenvalues listed, with multiplicity: a complex mode stands for its conjugate too."""
+    return sum(m.multiplicity * (2 if m.kind == "oscillatory" else 1) for m in found)
+
+
+@pytest.mark.parametrize("c", [2 * sp.sqrt(2), "2*sqrt(2)"])
+def test_modes_irrational_critical_damping_is_one_double_mode(c: object) -> None:
+    """x'' + 2√2 x' + 2x = 0: Δ = (λ + √2)², critical damping (ζ = c/(2√(km)) = 1,
+    ω_n = √2 by hand). It was two simple modes at λ = −1.4142135(4 and 9) (float64 split
+    the double root by √u); it is one mode λ = −√2 of multiplicity 2, as the rational
+    x'' + 2x' + x = 0 gives one mode λ = −1 of multiplicity 2."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[[c]], K=[[2]], x0=[1], v0=[0])
+    (mode,) = ls.modes(scene)
+    assert mode.multiplicity == 2 and mode.kind == "real"
+    assert sp.simplify(mode.eigenvalue + sp.sqrt(2)) == 0
+    assert sp.simplify(mode.natural_frequency - sp.sqrt(2)) == 0
+    zeta = -sp.re(mode.eigenvalue) / sp.Abs(mode.eigenvalue)  # ζ = −Re λ/|λ|
+    assert sp.simplify(zeta - 1) == 0
+
+
+def test_modes_irrational_two_masses_with_a_double_root() -> None:
+    """M = I, K = [[2, −1], [−1, 2]] (ω² = 1, 3), C = (2/√3)K (classical): the ω² = 3 mode
+    has λ² + 2√3 λ + 3 = (λ + √3)², critical (by hand); the ω² = 1 mode λ² + (2/√3)λ + 1,
+    ζ = 1/√3, ω_d = √(2/3). Before: three modes (the double root split in two)."""
+    b = 2 / sp.sqrt(3)
+    scene = ls.Scene.from_matrices(M=[[1, 0], [0, 1]], C=[[2 * b, -b], [-b, 2 * b]],
+                                   K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 0])
+    found = ls.modes(scene)
+    assert len(found) == 2 and _eigenvalue_count(found) == 4
+    slow, critical = found
+    assert critical.multiplicity == 2 and critical.kind == "real"
+    assert sp.simplify(critical.eigenvalue + sp.sqrt(3)) == 0
+    assert sp.simplify(critical.natural_frequency - sp.sqrt(3)) == 0
+    assert np.allclose(critical.shape, [-1, 1]) or np.allclose(critical.shape, [1, -1])
+    assert slow.kind == "oscillatory" and slow.multiplicity == 1
+    assert abs(float(slow.natural_frequency) - 1) <= 1e-14
+    assert abs(float(slow.damping_ratio) - 1 / np.sqrt(3)) <= 1e-14
+    assert abs(float(slow.damped_frequency) - np.sqrt(2 / 3)) <= 1e-14
+
+
+def test_modes_irrational_repeated_roots_other_domains() -> None:
+    """Equal frequencies (M = √2 I, K = I: ω = 2^(-1/4) twice, two shapes) and critical
+    damping over π (c = 2π, k = π²: λ = −π) and √π (c = 2√π, k = π: λ = −√π), by hand."""
+    equal = ls.modes(ls.Scene.from_matrices(M=[["sqrt(2)", 0], [0, "sqrt(2)"]], K=[[1, 0], [0, 1]],
+                                            x0=[1, 0], v0=[0, 0]))
+    (mode,) = equal
+    assert mode.multiplicity == 2 and len(mode.shapes) == 2 and mode.damping_ratio == 0
+    assert sp.simplify(mode.natural_frequency - 2 ** sp.Rational(-1, 4)) == 0
+    for c, k, root in (("2*pi", "pi**2", sp.pi), ("2*sqrt(pi)", "pi", sp.sqrt(sp.pi))):
+        (mode,) = ls.modes(ls.Scene.from_matrices(M=[[1]], C=[[c]], K=[[k]], x0=[1], v0=[0]))
+        assert mode.multiplicity == 2 and sp.simplify(mode.eigenvalue + root) == 0, (c, mode)
+
+
+def test_modes_irrational_near_critical_stays_two_modes() -> None:
+    """c = 2√2 + 1e-9, k = 2: two simple real roots (−c ± √(c² − 8))/2, 5e-5 apart, stay
+    two modes, each within 1e-9 relative of the roots in mpmath at 40 digits (the float
+    route: the simple roots are ill-conditioned, √u·|λ|/gap ≈ 1e-4 of their gap)."""
+    found = ls.modes(ls.Scene.from_matrices(M=[[1]], C=[["2*sqrt(2) + 1/10**9"]], K=[[2]],
+                                            x0=[1], v0=[0]))
+    assert [m.multiplicity for m in found] == [1, 1]
+    with mp.workdps(40):
+        c = 2 * mp.sqrt(2) + mp.mpf(10) ** -9
+        roots = sorted([(-c + mp.sqrt(c * c - 8)) / 2, (-c - mp.sqrt(c * c - 8)) / 2], reverse=True)
+        for mode, root in zip(found, roots):
+            assert abs(mp.mpf(str(mode.eigenvalue)) - root) <= 1e-9 * abs(root)

@@ -20,13 +20,14 @@ from ..exact.algebraic import AlgebraicRoot
 from ..exact.partial_fractions import exact_factors
 from ..exact.resolvent import resolvent
 from ..limits import limits
-from ..model.errors import SceneError
+from ..model.errors import LimitError, SceneError
 from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
 from ..numeric.classical import float_eigenpairs
 from ..numeric.first_order import is_rational
 from ..numeric.mp_expr import numeric_value
+from .multiple_roots import multiple_roots
 
 __all__ = ["Mode", "modes", "float_modes"]
 
@@ -138,6 +139,18 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
     SceneError
         When the eigenvalues have no closed form (symbolic entries, high degree).
 
+    Notes
+    -----
+    Rational scenes up to Limits.modes_exact_max_coordinates coordinates are exact. A
+    scene with irrational entries takes its modes from float64 eigenpairs
+    (:func:`float_modes`), except that up to Limits.modes_multiple_root_max_coordinates
+    coordinates, where two eigenvalues lie within 1e-3 of each other, the squarefree
+    decomposition of Δ decides exactly whether they are one multiple root
+    (:mod:`laplace_springs.analysis.multiple_roots`); such a root is one mode of its
+    multiplicity, exact, as for a rational scene (m = 1, c = 2√2, k = 2: λ = −√2 twice).
+    Beyond that size (or where Δ is too large to expand) a multiple root of an irrational
+    scene is listed as the float64 eigenvalues rounding split it into.
+
     Examples
     --------
     The seed's Example 1 (undamped; A has eigenvalues 1 and 4):
@@ -156,7 +169,10 @@ def modes(scene: Scene) -> tuple[Mode, ...]:
     (2, 1/10, 3*sqrt(11)/5)
     """
     if not scene.free_symbols and (scene.n > limits().modes_exact_max_coordinates or not is_rational(scene)):
-        return float_modes(scene)
+        found = float_modes(scene)
+        if scene.n <= limits().modes_exact_max_coordinates and _clustered(found):
+            return _merge_multiple(scene, found)
+        return found
     R = resolvent(scene)
     if not scene.is_damped:
         out = _undamped_modes(scene, R.determinant)
@@ -211,6 +227,70 @@ def float_modes(scene: Scene) -> tuple[Mode, ...]:
         out.append(Mode(eigenvalue, kind, sp.Float(wn, 15), sp.Float(value.imag, 15), zeta, 1,
                         (shape,)))
     return tuple(sorted(out, key=lambda m: (float(m.natural_frequency), float(m.damped_frequency))))
+
+
+#: Float eigenvalues this close (relative) may be one multiple root split by rounding
+#: (a double root splits by about √u = 1.5e-8, a triple by u^(1/3) = 6e-6 of its size).
+_CLUSTER = 1e-3
+
+
+def _clustered(found: tuple[Mode, ...]) -> bool:
+    """Whether two float eigenvalues (a complex one and its conjugate included) other
+    than 0 lie within _CLUSTER of each other, relative to the larger."""
+    values: list[complex] = []
+    for mode in found:
+        if mode.kind == "rigid":
+            continue
+        z = complex(mode.eigenvalue)
+        values += [z, z.conjugate()] if mode.kind == "oscillatory" else [z]
+    return any(abs(a - b) <= _CLUSTER * max(abs(a), abs(b))
+               for i, a in enumerate(values) for b in values[i + 1:])
+
+
+def _merge_multiple(scene: Scene, found: tuple[Mode, ...]) -> tuple[Mode, ...]:
+    """Float modes with each multiple root of Δ (decided exactly: :mod:`.multiple_roots`)
+    as one mode of its multiplicity, exact as :func:`modes` gives it for a rational
+    scene, in place of the float modes rounding split it into."""
+    if scene.n > limits().modes_multiple_root_max_coordinates:
+        return found
+    try:
+        determinant = resolvent(scene).determinant
+    except LimitError:  # Δ too large to expand (max_resolvent_terms): the float modes stand
+        return found
+    roots = multiple_roots(determinant, scene.n)
+    if not roots:
+        return found
+    kept = list(found)
+    merged = []
+    for root, multiplicity in roots:
+        z = complex(numeric_value(root, 20))
+        # the float modes nearest to the root, until they hold its multiplicity: a real
+        # root split into a complex pair is one oscillatory float mode holding two
+        order = sorted((m for m in kept if m.kind != "rigid"), key=lambda m: abs(complex(m.eigenvalue) - z))
+        held = 0
+        for mode in order:
+            if held >= multiplicity:
+                break
+            if abs(complex(mode.eigenvalue) - z) > _CLUSTER * abs(z):
+                return found  # no cluster there: leave the float modes as they are
+            kept.remove(mode)
+            held += 2 if (mode.kind == "oscillatory" and z.imag == 0) else 1
+        if held != multiplicity:
+            return found
+        merged.append(_mode(scene, root, multiplicity) if not root.has(sp.Float) else
+                      _float_mode(scene, z, multiplicity))
+    return tuple(sorted(kept + merged, key=lambda m: (float(numeric_value(m.natural_frequency, 20)),
+                                                     float(numeric_value(m.damped_frequency, 20)))))
+
+
+def _float_mode(scene: Scene, value: complex, multiplicity: int) -> Mode:
+    """A mode at a multiple root known to 15 digits."""
+    wn = abs(value)
+    kind: ModeKind = "real" if value.imag == 0 else "oscillatory"
+    zeta = sp.Float(-value.real / wn, 15) if kind == "oscillatory" else None
+    eigenvalue = sp.Float(value.real, 15) + sp.I * sp.Float(value.imag, 15)
+    return Mode(eigenvalue, kind, sp.Float(wn, 15), sp.Float(value.imag, 15), zeta, multiplicity,
+                _shapes(scene, eigenvalue))
 
 
 def _undamped(value: complex) -> complex:
