@@ -6,6 +6,7 @@ References are written here: closed forms worked by hand and evaluated in mpmath
 
 from __future__ import annotations
 
+import re
 from fractions import Fraction
 
 import mpmath as mp
@@ -260,3 +261,36 @@ def test_modes_irrational_near_critical_stays_two_modes() -> None:
         roots = sorted([(-c + mp.sqrt(c * c - 8)) / 2, (-c - mp.sqrt(c * c - 8)) / 2], reverse=True)
         for mode, root in zip(found, roots):
             assert abs(mp.mpf(str(mode.eigenvalue)) - root) <= 1e-9 * abs(root)
+
+
+@pytest.mark.parametrize("times", [np.array([[0.0, 1.0], [2.0, 3.0]]), [[0.0, 1.0], [2.0, 3.0]],
+                                   np.zeros((1, 3)), np.zeros((2, 1, 1))])
+def test_sweep_refuses_times_of_more_than_one_axis(times: object) -> None:
+    """2-D times were flattened: (2, 2) times gave values of shape (P, n, 4) without a word.
+    A number or a 1-D array only (NumPy's rule), the error naming times and the shape."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0], parameters=["c", "k"])
+    shape = np.asarray(times).shape
+    with pytest.raises(ValueError, match=rf"sweep: times must be a 1-D array .*got shape {re.escape(str(shape))}"):
+        ls.sweep(scene, {"k": [1, 2], "c": [0.1, 0.2]}, times)
+
+
+def test_grid_refuses_values_of_more_than_one_axis() -> None:
+    """grid(k=[[1, 2], [3, 4]]) was a grid of four k values (shape (4, 1)); now an error
+    naming k and (2, 2). sweep's own values were already refused; settling_time's times too."""
+    with pytest.raises(ValueError, match=r"grid: values of 'k' must be a 1-D array .*got shape \(2, 2\)"):
+        ls.grid(k=[[1, 2], [3, 4]], c=[0.1])
+    with pytest.raises(ValueError, match=r"settling_time: times must be a 1-D array .*got shape \(1, 3\)"):
+        ls.sweeps.settling_time(np.zeros((1, 1, 3)), np.zeros((1, 3)), 0.1)
+
+
+def test_sweep_scalars_are_one_value() -> None:
+    """A number is one time, and one value of a parameter: x'' + c x' + k x = 0 from x = 1
+    at t = 1.5, (1 + t)e^{-t} (k = 1, c = 2) and (1 + 2t)e^{-2t} (k = 4, c = 4), by hand."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0], parameters=["c", "k"])
+    g = ls.grid(k=4.0, c=[2.0, 4.0])
+    assert g.shape == (1, 2)
+    x = ls.sweep(scene, {"k": [1, 4], "c": [2, 4]}, 1.5)
+    assert x.shape == (2, 1, 1)
+    t = mp.mpf("1.5")
+    for value, exact in ((x[0, 0, 0], (1 + t) * mp.exp(-t)), (x[1, 0, 0], (1 + 2 * t) * mp.exp(-2 * t))):
+        assert abs(value - exact) <= 4e-16 * abs(exact)

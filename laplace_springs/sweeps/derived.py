@@ -28,7 +28,7 @@ from ..model.scene import Scene
 from ..model.supports import is_support, support_columns
 from ..model.symbols import lam
 from .compile import compile_refusal, compile_scene, parameter_rows
-from .parameters import parameter_sets
+from .parameters import check_flat, parameter_sets
 from .run import plan_sweep, sweep
 from .validate import validate_sets
 
@@ -81,7 +81,8 @@ def settling_time(values: Any, times: Any, tolerance: float) -> np.ndarray:
     [[1.0, inf]]
     """
     array = _values(values)
-    grid = np.asarray(times, dtype=float).ravel()
+    check_flat(times, "settling_time: times")
+    grid = np.atleast_1d(np.asarray(times, dtype=float))
     if grid.size != array.shape[-1]:
         raise SceneError(f"settling_time: {grid.size} times for values with {array.shape[-1]} times")
     if not (isinstance(tolerance, (int, float)) and tolerance >= 0):

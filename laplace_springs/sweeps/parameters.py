@@ -20,7 +20,7 @@ from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown, to_exact
 from .entries import DD, parameter_parts
 
-__all__ = ["ParameterSets", "parameter_sets"]
+__all__ = ["ParameterSets", "parameter_sets", "check_flat"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,14 +75,35 @@ class ParameterSets:
                          for name, value in self.values(b).items())
 
 
+def check_flat(value: Any, what: str, hint: str = "") -> None:
+    """A SceneError (a ValueError) naming ``what`` and the shape where ``value`` has more
+    than one axis: sweeps take a number or a 1-D array and never flatten one silently
+    (NumPy's rule for 1-D arguments). A ragged or unreadable value passes, for its reader
+    to name the bad entry.
+
+    >>> check_flat([[0.0, 1.0], [2.0, 3.0]], "sweep: times")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: sweep: times must be a 1-D array (or a number), got shape (2, 2)
+    """
+    shape = getattr(value, "shape", None)
+    if shape is None and isinstance(value, (list, tuple)):
+        try:
+            shape = np.asarray(value, dtype=object).shape
+        except ValueError:
+            return
+    if isinstance(shape, tuple) and len(shape) > 1:
+        raise SceneError(f"{what} must be a 1-D array (or a number), got shape "
+                         f"{tuple(int(k) for k in shape)}{hint}")
+
+
 def _column(name: str, value: Any) -> tuple[np.ndarray, list[Any] | None]:
     """Float values of one parameter, and the values as given where they are not floats."""
     try:
         array = np.asarray(value)
     except (TypeError, ValueError):
         raise SceneError(f"sweep: values of {name!r} must be real numbers, got {shown(value)}") from None
-    if array.ndim > 1:
-        raise SceneError(f"sweep: values of {name!r} must be a 1-D array, got shape {array.shape}")
+    check_flat(array, f"sweep: values of {name!r}")
     if array.dtype.kind in "fiu" and not (array.dtype.kind in "iu" and np.any(np.abs(array) > 2**53)):
         return array.astype(float), None
     if array.dtype.kind == "b":

@@ -20,7 +20,7 @@ from ..numeric.first_order import scene_cache
 from ..numeric.times import as_times
 from ..policy import check_target
 from .distributed import run_on_client
-from .parameters import parameter_sets
+from .parameters import check_flat, parameter_sets
 from .paths import SweepPlan, chunk_bounds, set_costs, sweep_plan
 from .reduce import quantity_spec
 from .stores import open_store
@@ -46,7 +46,8 @@ def grid(*args: Mapping[Any, Any], **axes: Any) -> ParameterGrid:
     Parameters
     ----------
     *args : mapping, optional
-        Parameter (name or Symbol) -> 1-D values.
+        Parameter (name or Symbol) -> a number or 1-D values (an array of more axes is a
+        SceneError naming it and its shape: flatten it yourself).
     **axes
         More parameters by name.
 
@@ -72,8 +73,9 @@ def grid(*args: Mapping[Any, Any], **axes: Any) -> ParameterGrid:
                 raise SceneError(f"grid: parameter names must be strings or Symbols, got {shown(key)}")
             if name in items:
                 raise SceneError(f"grid: parameter {name!r} is given twice")
+            check_flat(value, f"grid: values of {name!r}")
             try:
-                array = np.asarray(value, dtype=float).ravel()
+                array = np.asarray(value, dtype=float).ravel()  # a number is one value
             except (TypeError, ValueError):
                 raise SceneError(f"grid: values of {name!r} must be real numbers, got {shown(value)}") from None
             if array.size == 0:
@@ -285,8 +287,10 @@ def sweep(scene: Scene, values: Mapping[Any, Any], times: Any, *, outputs: Any =
         decimal, as in ``Scene.subs``); arrays share one length P. :func:`grid` builds a
         Cartesian product, :func:`~laplace_springs.sweeps.uncertainty.sample_parameters`
         random samples.
-    times : array_like
-        Nonnegative evaluation times, read as float64 numbers.
+    times : float or array_like
+        Nonnegative evaluation times, read as float64 numbers: a number (one time) or a
+        1-D array. An array of more axes is a SceneError naming its shape, not flattened:
+        pass ``t.ravel()`` and reshape the result's last axis to ``t.shape``.
     outputs : "x", str, int or sequence, optional
         The coordinates to return (names or indices); ``"x"`` is all of them.
     derivative : {0, 1, 2}, optional
@@ -364,6 +368,7 @@ def sweep(scene: Scene, values: Mapping[Any, Any], times: Any, *, outputs: Any =
     spec = quantity_spec(quantities) if quantities is not None else None
     sets = parameter_sets(plan.names, plan.symbols, values)
     validate_sets(scene, plan.entries, sets)
+    check_flat(times, "sweep: times", "; pass t.ravel() and reshape the result's last axis to t.shape")
     grid_times = as_times(times).hi
     P, shape = len(sets), (len(chosen), grid_times.size)
     _check_memory(P, shape, keep=(spec is None and out is None, return_error and spec is None and error_out is None))
