@@ -148,8 +148,6 @@ class Solution(ABC):
     Attributes
     ----------
     scene : Scene
-    reason : str
-        Why this route was taken.
     target : float
         The accuracy :meth:`evaluate` aims at (see :mod:`laplace_springs.policy`).
     """
