@@ -19,6 +19,7 @@ import math
 import numbers
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -29,7 +30,7 @@ from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown, to_exact
 from ..model.units import times_to_seconds
 
-__all__ = ["Times", "as_times", "check_dps"]
+__all__ = ["Times", "as_times", "check_dps", "check_flat"]
 
 
 
@@ -174,7 +175,8 @@ def as_times(times: object) -> Times:
     Raises
     ------
     ValueError
-        For NaN, an infinity, a negative time or a non-number, naming the entry.
+        For NaN, an infinity, a negative time or a non-number, naming the entry, or times
+        with more than one axis (a SceneError, naming the shape).
     LimitError
         For more than :attr:`~laplace_springs.limits.Limits.max_times` times, before any
         is read.
@@ -189,10 +191,12 @@ def as_times(times: object) -> Times:
     ...
     ValueError: times[1] must be finite, got nan
     """
-    if type(times) is np.ndarray and times.dtype == np.float64 and times.size:
+    if type(times) is np.ndarray and times.dtype == np.float64 and times.size \
+            and times.ndim == 1:
         fast = _float_times(times)  # the common call: float64 seconds, nothing to convert
         if fast is not None:
             return fast
+    check_flat(times, "times")
     _check_count(times)
     times = times_to_seconds(times)
     numeric = times if isinstance(times, np.ndarray) else _plain_numbers(times)
@@ -215,6 +219,28 @@ def as_times(times: object) -> Times:
         i = int(np.flatnonzero(~np.isfinite(hi))[0])
         raise ValueError(f"times[{i}] = {shown(values[i])} is beyond the float64 range")
     return Times(hi, lo, tuple(converted))
+
+
+def check_flat(value: Any, what: str, hint: str = "") -> None:
+    """A SceneError (a ValueError) naming ``what`` and the shape where ``value`` has more
+    than one axis: evaluations and sweeps take a number or a 1-D array and never flatten
+    one silently (NumPy's rule for 1-D arguments). A ragged or unreadable value passes,
+    for its reader to name the bad entry.
+
+    >>> check_flat([[0.0, 1.0], [2.0, 3.0]], "sweep: times")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: sweep: times must be a 1-D array (or a number), got shape (2, 2)
+    """
+    shape = getattr(value, "shape", None)
+    if shape is None and isinstance(value, (list, tuple)):
+        try:
+            shape = np.asarray(value, dtype=object).shape
+        except ValueError:
+            return
+    if isinstance(shape, tuple) and len(shape) > 1:
+        raise SceneError(f"{what} must be a 1-D array (or a number), got shape "
+                         f"{tuple(int(k) for k in shape)}{hint}")
 
 
 def _float_times(times: np.ndarray) -> Times | None:

@@ -18,6 +18,7 @@ import sympy as sp
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
 from ..model.numbers import shown, to_exact
+from ..numeric.times import check_flat
 from .entries import DD, parameter_parts
 
 __all__ = ["ParameterSets", "parameter_sets", "check_flat"]
@@ -73,28 +74,6 @@ class ParameterSets:
         """``k = 1.5, c = 0.2`` for set ``b``."""
         return ", ".join(f"{name} = {value!r}" if isinstance(value, float) else f"{name} = {value}"
                          for name, value in self.values(b).items())
-
-
-def check_flat(value: Any, what: str, hint: str = "") -> None:
-    """A SceneError (a ValueError) naming ``what`` and the shape where ``value`` has more
-    than one axis: sweeps take a number or a 1-D array and never flatten one silently
-    (NumPy's rule for 1-D arguments). A ragged or unreadable value passes, for its reader
-    to name the bad entry.
-
-    >>> check_flat([[0.0, 1.0], [2.0, 3.0]], "sweep: times")
-    Traceback (most recent call last):
-    ...
-    laplace_springs.model.errors.SceneError: sweep: times must be a 1-D array (or a number), got shape (2, 2)
-    """
-    shape = getattr(value, "shape", None)
-    if shape is None and isinstance(value, (list, tuple)):
-        try:
-            shape = np.asarray(value, dtype=object).shape
-        except ValueError:
-            return
-    if isinstance(shape, tuple) and len(shape) > 1:
-        raise SceneError(f"{what} must be a 1-D array (or a number), got shape "
-                         f"{tuple(int(k) for k in shape)}{hint}")
 
 
 def _column(name: str, value: Any) -> tuple[np.ndarray, list[Any] | None]:

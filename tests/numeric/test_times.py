@@ -3,8 +3,10 @@ its range."""
 
 from __future__ import annotations
 
+import re
 from fractions import Fraction
 
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -35,3 +37,17 @@ def test_the_span_is_the_first_and_last_time() -> None:
     assert as_times([3.0, 0.5, 2.0]).span == (0.5, 3.0)
     assert as_times(["1/3", 0, 7]).span == (0.0, 7.0)
     assert as_times([2.0, 1.0]).subset([1]).span == (1.0, 1.0)
+
+
+@pytest.mark.parametrize("times, shape", [
+    ([[0.0, 1.0], [2.0, 3.0]], (2, 2)), ([[0.5], [1.5]], (2, 1)),
+    (np.arange(4.0).reshape(2, 2), (2, 2)), (np.arange(3.0)[:, None], (3, 1)),
+    (np.zeros((1, 2, 1)), (1, 2, 1))])
+def test_times_with_more_than_one_axis_are_refused_not_flattened(times, shape) -> None:
+    message = re.escape(f"times must be a 1-D array (or a number), got shape {shape}")
+    with pytest.raises(ValueError, match=message):
+        as_times(times)
+    sol = ls.solve(ls.load_scene("wall-pair"))
+    with pytest.raises(ValueError, match=message):
+        sol.evaluate(times)
+    assert sol.evaluate(0.5).shape == sol.evaluate([0.5]).shape == (sol.scene.n, 1)
