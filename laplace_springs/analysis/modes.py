@@ -17,7 +17,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.algebraic import AlgebraicRoot
-from ..exact.partial_fractions import exact_factors
+from ..exact.partial_fractions import exact_factors, isolation_obstacle
 from ..exact.resolvent import resolvent
 from ..limits import limits
 from ..model.errors import LimitError, SceneError
@@ -327,6 +327,9 @@ def _all_roots(factor: sp.Poly, scene: Scene) -> list[sp.Expr]:
             raise SceneError(f"the eigenvalues of {scene!r} have no closed form: "
                              f"cannot solve {factor.as_expr()} = 0")
         return list(found)
+    if (why := isolation_obstacle(factor.all_coeffs())) is not None:
+        raise LimitError(f"the exact modes of this scene: Δ(λ) has an {why}. Its poles, "
+                         "certified: ls.solve(scene, method='certified').poles")
     return [AlgebraicRoot(factor, i) for i in range(factor.degree())]
 
 

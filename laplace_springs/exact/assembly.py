@@ -419,7 +419,9 @@ def exact_motion(scene: Scene) -> ExactMotion:
     of degree above :attr:`~laplace_springs.limits.Limits.exact_expanded_max_degree`
     gives terms in named numbers (ρ_j, α_j, β_j, c_j: see
     :mod:`laplace_springs.exact.named_roots`), exact, with ``CRootOf`` built only when
-    asked (:meth:`ExactMotion.substituted`).
+    asked (:meth:`ExactMotion.substituted`); so does a factor of any degree whose roots
+    SymPy numbers only slowly (their sizes spanning hundreds of decades:
+    :attr:`~laplace_springs.limits.Limits.exact_expanded_max_isolation`).
 
     Raises
     ------
@@ -428,8 +430,11 @@ def exact_motion(scene: Scene) -> ExactMotion:
         :func:`~laplace_springs.exact.screening.screen_scene`) or right after Δ(λ) is
         factored, when Δ has an irreducible factor above
         :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` (a forced or
-        symbolic scene) or one of degree ≥ 3 with irrational coefficients, that the
-        solution needs; or when the scene has more than
+        symbolic scene) or one of degree ≥ 3 with irrational coefficients, or one whose
+        roots SymPy would number only after more work than
+        :attr:`~laplace_springs.limits.Limits.max_exact_isolation` (a forced scene with
+        entries of very different sizes), that the solution needs; or when the scene has
+        more than
         :attr:`~laplace_springs.limits.Limits.max_exact_coordinates` coordinates.
     """
     with reserved_names(symbol.name for symbol in scene.free_symbols):

@@ -67,10 +67,12 @@ from mpmath.libmp import from_man_exp
 
 from ..kernels.precision import flint_workprec, workdps
 from ..limits import limits
+from ..model.errors import InversionError
 from ..model.scene import Scene
 from ..model.symbols import lam
+from .isolation import isolation_work
 from .named import NamedNumber, NamedQuantity, Shown, named, named_number
-from .partial_fractions import PoleGroup, check_closed_form
+from .partial_fractions import PoleGroup, check_closed_form, isolation_obstacle
 from .rational import (
     RationalGroup,
     from_poly,
@@ -133,9 +135,22 @@ def needs_algebraic_roots(q: flint.fmpq_poly) -> bool:
 def uses_named_roots(factors: Sequence[flint.fmpq_poly]) -> bool:
     """Whether a motion over these irreducible factors is written in named numbers: some
     factor needs algebraic roots and has degree above
-    :attr:`~laplace_springs.limits.Limits.exact_expanded_max_degree`."""
-    return any(q.degree() > limits().exact_expanded_max_degree and needs_algebraic_roots(q)
-               for q in factors)
+    :attr:`~laplace_springs.limits.Limits.exact_expanded_max_degree`, or roots that SymPy
+    numbers only after more work than
+    :attr:`~laplace_springs.limits.Limits.exact_expanded_max_isolation`
+    (:func:`~laplace_springs.exact.isolation.isolation_work`: entries of very different
+    scales, such as masses of 1e-300 on springs of 1).
+
+    >>> uses_named_roots([flint.fmpq_poly([1, 1, 0, 1])])           # x³ + x + 1
+    False
+    >>> tiny = flint.fmpq(1, 10**300)                               # masses of 1e-300
+    >>> uses_named_roots([flint.fmpq_poly([2, tiny, tiny]) * flint.fmpq_poly([1, 0, tiny]) - 1])
+    True
+    """
+    most = limits()
+    return any(needs_algebraic_roots(q) and (
+        q.degree() > most.exact_expanded_max_degree
+        or isolation_work(q) > most.exact_expanded_max_isolation) for q in factors)
 
 
 # ---------------------------------------------------------------------------
@@ -353,8 +368,11 @@ def _root_value(roots: FactorRoots, kind: str, j: int, part: str):
 @lru_cache(maxsize=64)
 def _sympy_roots(key: tuple[tuple[int, int], ...]) -> tuple[list, list]:
     """The expanded route's exact roots of q: (real roots, (α, β) of the upper ones),
-    with their values, in SymPy's numbering (SymPy isolates q: seconds at degree 24)."""
+    with their values, in SymPy's numbering (SymPy isolates q: seconds at degree 24).
+    An InversionError when that isolation is beyond Limits.max_exact_isolation."""
     q = to_poly(flint.fmpq_poly([flint.fmpq(p, d) for p, d in key]), lam)
+    if (why := isolation_obstacle(q.all_coeffs())) is not None:
+        raise InversionError(f"the definition of a named root in CRootOf: {why}")
     real, upper = _upper_roots(q)
     with workdps(30):
         upper_values = [complex(sp.N(alpha, 30)) + 1j * complex(sp.N(beta, 30))

@@ -22,7 +22,10 @@ real and imaginary parts of the residues cost about d⁴ (measured for s^d + s +
 transform: d = 12 0.18 s, 16 0.37 s, 24 1.2 s, 30 2.9 s, 40 9.9 s), and a scene pays it
 once per coordinate (a damped 8-mass chain with an irreducible Δ of degree 16: 4 s).
 Beyond :attr:`~laplace_springs.limits.Limits.max_exact_factor_degree` the inversion is refused at once, as is a factor
-of degree ≥ 3 with irrational coefficients: :func:`closed_form_obstacle` says which,
+of degree ≥ 3 with irrational coefficients, or one whose roots SymPy's ``CRootOf`` would
+number only after minutes (roots whose sizes span hundreds of decades:
+:attr:`~laplace_springs.limits.Limits.max_exact_isolation`,
+:mod:`laplace_springs.exact.isolation`): :func:`closed_form_obstacle` says which,
 before any residue is computed (``closed_form=True``). A factor of degree ≥ 3 with
 symbolic coefficients (an even quartic excepted) has no closed-form roots either; with
 ``root_sums=True`` it becomes a :class:`RootSumGroup`, whose terms are a sum over its
@@ -36,11 +39,13 @@ numerator (its principal parts all vanish) is never refused.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from math import factorial
 from typing import Any
 
+import flint
 import sympy as sp
 
 from ..limits import limits
@@ -48,11 +53,12 @@ from ..model.errors import InternalError, InversionError, SceneError
 from ..model.numbers import declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
 from .domains import field_polys
+from .isolation import isolation_size
 from .rational import from_poly, rational_partial_fractions, to_poly
 from .root_sums import Condition, SumOverRoots, root_sum_weights
 
 __all__ = ["PoleGroup", "RootSumGroup", "PartialFractions", "partial_fractions", "decompose", "exact_factors",
-           "closed_form_obstacle", "check_closed_form",
+           "closed_form_obstacle", "isolation_obstacle", "check_closed_form",
            "is_symbolic_biquadratic", "is_root_sum_factor", "transform_of", "GenericCondition",
            "denominator_conditions"]
 
@@ -189,7 +195,9 @@ def is_root_sum_factor(q: sp.Poly) -> bool:
 def closed_form_obstacle(q: sp.Poly) -> str | None:
     """Why the irreducible factor ``q`` has no exact real terms, or None if it has.
 
-    Cheap: it looks at the degree and the coefficients only.
+    Cheap: it looks at the degree and the coefficients, and for a rational factor of
+    degree ≥ 3 at flint's enclosures of its roots (:func:`isolation_obstacle`,
+    milliseconds).
 
     Examples
     --------
@@ -200,6 +208,9 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     irreducible factor of degree 4 has symbolic coefficients (a*s + s**4 + 1): ...
     >>> print(closed_form_obstacle(sp.Poly(s**200 + 2*s + 2, s)))   # doctest: +ELLIPSIS
     irreducible factor of degree 200 > Limits.max_exact_factor_degree = 24: ...
+    >>> e = sp.Rational(1, 10**300)   # a frequency of 1.6 against a decay rate of 1e-301
+    >>> print(closed_form_obstacle(sp.Poly(s**4 + e*s**3 + 3*s**2 + e*s + 1, s)))  # doctest: +ELLIPSIS
+    irreducible factor of degree 4 whose roots SymPy's CRootOf numbers only after about 4.0e+06 units of work > Limits.max_exact_isolation = 200,000 ...
     """
     degree = q.degree()
     if degree <= 2:
@@ -207,7 +218,7 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     coeffs = [q.domain.to_sympy(c) for c in q.all_coeffs()]
     if all(c.is_Rational for c in coeffs):
         if degree <= limits().max_exact_factor_degree:
-            return None
+            return isolation_obstacle(coeffs)
         longer = f", {degree}: longer" if degree > 40 else ""
         return (f"irreducible factor of degree {degree} > Limits.max_exact_factor_degree = "
                 f"{limits().max_exact_factor_degree}: exact terms in written-out form cost about the "
@@ -229,6 +240,39 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     return (f"irreducible factor of degree {degree} has irrational coefficients "
             f"({q.as_expr()}): its roots are not computed exactly; use rational numbers "
             "(decimals are exact) or the numeric route (method='modal')")
+
+
+def isolation_obstacle(coeffs: list[sp.Rational], cause: str = "entries of very different sizes"
+                       ) -> str | None:
+    """Why SymPy's ``CRootOf`` cannot number the roots of the irreducible rational
+    polynomial with these coefficients (highest first) in reasonable time, or None: its
+    :func:`~laplace_springs.exact.isolation.isolation_work` beyond
+    :attr:`~laplace_springs.limits.Limits.max_exact_isolation`. ``cause`` says where
+    the scales come from (the scene's entries, when known). None for coefficients that
+    are not rational (other obstacles apply to them)."""
+    if not all(isinstance(c, sp.Rational) for c in coeffs):
+        return None
+    poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in reversed(coeffs)])
+    size = isolation_size(poly)
+    most = limits().max_exact_isolation
+    if size.work <= most:
+        return None
+    return (f"irreducible factor of degree {poly.degree()} whose roots SymPy's CRootOf numbers only "
+            f"after about {size.work:.1e} units of work > Limits.max_exact_isolation = {most:,} "
+            f"(about 3-14 s; 1.4e-5 to 7e-5 s a unit): {size.off_line} roots off the real line, "
+            f"{size.bisections:.0f} bisections from a root of size {size.largest} down to a part "
+            f"of {size.smallest}, coefficients of {size.bits:,} bits. The dynamics span scales "
+            f"that far apart ({cause}); the free motion of a scene with rational entries is "
+            "still solved exactly, in named roots (ls.solve(scene, method='exact')), and "
+            "numerically (method='certified'); with "
+            f"ls.using_limits(max_exact_isolation={_above(size.work)}) the written-out terms are "
+            "built, slowly")
+
+
+def _above(work: float) -> str:
+    """A round number above ``work`` for a message (two significant digits, with _)."""
+    power = 10 ** max(int(math.log10(max(work, 1.0))) - 1, 0)
+    return f"{math.ceil(work / power) * power:_}"
 
 
 def _divides(q: sp.Poly, N: sp.Poly) -> bool:

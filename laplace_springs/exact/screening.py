@@ -25,6 +25,12 @@ terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
   denominator; every supported input has denominator factors of degree ≤ 2, which f
   cannot divide, so the same test holds with E taken at p.
 
+* A numeric scene (not free with rational entries, whose roots are named) is refused
+  too when a factor of degree ≥ 3 that stays has roots SymPy's ``CRootOf`` would number
+  only after more work than :attr:`~laplace_springs.limits.Limits.max_exact_isolation`
+  (:mod:`laplace_springs.exact.isolation`: a pair of masses of 1e-300 on springs of 1
+  driven by cos t ran for minutes), naming the scene's smallest and largest entries.
+
 Each refusal is therefore one the engine would make (or, for a symbolic scene, one
 whose adjugate would not finish); anything the screen cannot decide (entries that are
 not rational functions of the parameters, Δ(p) ≡ 0) goes on to the engine, which
@@ -43,6 +49,7 @@ from ..model.numbers import generic_values
 from ..model.scene import Scene
 from ..model.symbols import lam
 from .named_roots import free_rational
+from .partial_fractions import isolation_obstacle
 from .rational import RationalPencil, fmpq_of, initial_vector, rational_pencil, solve_at_integers
 
 __all__ = ["screen_scene", "exact_refusal", "has_exact_form"]
@@ -153,11 +160,11 @@ def exact_refusal(scene: Scene) -> str | None:
             f"coordinates (its exact adjugate costs about n**4: 30 coordinates take 14 s); "
             f"this scene has {n}. The numeric routes (method='modal' or 'certified') take "
             "larger free numeric scenes, within their own limits")
-    if 2 * n <= limits().max_exact_factor_degree:
-        return None  # no factor of Δ can be too large
     if free_rational(scene):
-        return None  # named roots: exact terms at any degree (exact/named_roots.py)
+        return None  # named roots: exact terms at any degree and size (exact/named_roots.py)
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
+    if 2 * n <= limits().max_exact_factor_degree and symbols:
+        return None  # no factor of Δ can be too large; symbolic ones are sums over roots
     everything = set(scene.free_symbols)  # with those of x0, v0 and the forcing
     entries = [e for m in (scene.M, scene.C, scene.K, scene.x0, scene.v0) for e in m]
     if everything and not all(e.is_rational_function(*everything) for e in entries):
@@ -170,10 +177,11 @@ def exact_refusal(scene: Scene) -> str | None:
         return None
     delta, pieces = found
     _, factors = delta.factor()
-    stays = [f.degree() for f, _ in factors if f.degree() > limits().max_exact_factor_degree
-             and any(N % f != 0 for numerators in pieces for N in numerators)]
+    staying = [f for f, _ in factors
+               if f.degree() >= 3 and any(N % f != 0 for numerators in pieces for N in numerators)]
+    stays = [f.degree() for f in staying if f.degree() > limits().max_exact_factor_degree]
     if not stays:
-        return None
+        return None if symbols else _isolation_refusal(scene, staying)
     if not symbols:
         way = ("ls.solve(scene) (method='exo': the inputs' own dynamics joined to the scene)"
                if scene.is_forced else "ls.solve(scene, method='modal') or method='certified'")
@@ -191,6 +199,32 @@ def exact_refusal(scene: Scene) -> str | None:
         f"generic values of {names}): too large for exact terms whether its coefficients "
         f"are symbolic or not; substitute numbers for {names} and use the numeric routes "
         "(method='modal' or 'certified'), which evaluate any degree")
+
+
+def _isolation_refusal(scene: Scene, factors: list[flint.fmpq_poly]) -> str | None:
+    """Why SymPy cannot number the roots of one of these factors of Δ(λ) in reasonable
+    time (:func:`~laplace_springs.exact.partial_fractions.isolation_obstacle`), naming
+    the scene's smallest and largest entries; None when it can."""
+    for f in factors:
+        coeffs = [sp.Rational(int(c.p), int(c.q)) for c in reversed(f.coeffs())]
+        why = isolation_obstacle(coeffs, cause=_extreme_entries(scene))
+        if why is not None:
+            return f"Δ(λ) = det(λ²M + λC + K) has an {why}"
+    return None
+
+
+def _extreme_entries(scene: Scene) -> str:
+    """'M[0,0] = 1e-300 and K[0,0] = 2 are entries of this scene': its smallest and
+    largest nonzero entries of M, C and K in size."""
+    found = [(abs(value), f"{name}[{i},{j}] = {float(value):.3g}")
+             for name, matrix in (("M", scene.M), ("C", scene.C), ("K", scene.K))
+             for i in range(matrix.rows) for j in range(matrix.cols)
+             if (value := matrix[i, j]) != 0 and value.is_number]
+    if not found:
+        return "the scene's entries"
+    smallest = min(found, key=lambda entry: entry[0])[1]
+    largest = max(found, key=lambda entry: entry[0])[1]
+    return f"{smallest} and {largest} are entries of this scene"
 
 
 def has_exact_form(scene: Scene) -> bool:
