@@ -17,6 +17,7 @@ import pytest
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 import laplace_springs as ls
+from laplace_springs.numeric import terms
 from laplace_springs.numeric.chebyshev import chebyshev_motion, verified_interval
 from tests.test_attack import first_order
 
@@ -338,3 +339,50 @@ def test_a_value_beyond_float64_is_an_overflow_with_the_digits_way_out() -> None
         for i in range(4):
             exact = mpmath.mpf(reference[i][0].mid().str(35, radius=False))
             assert abs(digits[i, 0] - exact) <= mpmath.mpf("1e-18") * abs(exact)
+
+
+def test_a_growing_motion_far_out_is_an_overflow_without_thousands_of_digits(monkeypatch) -> None:
+    """Negative-definite damping (C = [[0, -1/7, 0], [-1/7, 0, 37], [0, 37, 0]]) grows like
+    e^{21.8 t}: at t = 2e4, x is about 1e189444. The exact route's escalation measured the
+    digits its pole sum "cancelled" against the floor S₀ instead of max(|x(t)|, S₀), took
+    e^{436000} of growth for 189,000 lost digits and worked at up to 37,933 digits (t = 4e3:
+    13 s; t = 2e4: 278 s) before saying OverflowError. Now the overflow is said at once, and
+    dps=30 gives the digits of an mpmath eigen-decomposition at 80 digits (no cancellation:
+    one growing mode dominates)."""
+    scene = ls.Scene.from_matrices(
+        M=[["7/5", 0, 0], [0, "7/3", 0], [0, 0, "6/5"]],
+        C=[[0, "-1/7", 0], ["-1/7", 0, 37], [0, 37, 0]],
+        K=[["11/4", 0, 0], [0, "41/4", 0], [0, 0, "21/2"]],
+        x0=["3/100000000000000000", 1, 1], v0=[0, 1, 0])
+    sol = ls.solve(scene)
+    worked: list[int] = []
+    original = terms._mp_values
+
+    def spy(*args, **kw):
+        out = original(*args, **kw)
+        worked.append(out[2])
+        return out
+
+    monkeypatch.setattr(terms, "_mp_values", spy)
+    for t in (1e3, 4e3, 2e4):
+        with pytest.raises(OverflowError, match=r"beyond the float64 range; evaluate\(\.\.\., dps=30\)"):
+            sol.evaluate([t], target=1e-10)
+    assert worked and max(worked) < 100  # digits of working precision (37,933 before)
+    digits = sol.evaluate([2e4, 7.5], dps=30)
+    with mpmath.workdps(80):
+        third = mpmath.mpf(1) / 3
+        M = mpmath.diag([mpmath.mpf(7) / 5, 7 * third, mpmath.mpf(6) / 5])
+        C = mpmath.matrix([[0, -mpmath.mpf(1) / 7, 0], [-mpmath.mpf(1) / 7, 0, 37], [0, 37, 0]])
+        K = mpmath.diag([mpmath.mpf(11) / 4, mpmath.mpf(41) / 4, mpmath.mpf(21) / 2])
+        A, B = M ** -1 * K, M ** -1 * C
+        Z = mpmath.zeros(6, 6)
+        for i in range(3):
+            Z[i, 3 + i] = 1
+            for j in range(3):
+                Z[3 + i, j], Z[3 + i, 3 + j] = -A[i, j], -B[i, j]
+        w, V = mpmath.eig(Z)
+        c = mpmath.lu_solve(V, mpmath.matrix([mpmath.mpf(3) / 10**17, 1, 1, 0, 1, 0]))
+        for k, t in enumerate((20000, mpmath.mpf(15) / 2)):
+            for i in range(3):
+                exact = mpmath.re(sum(V[i, m] * c[m] * mpmath.exp(w[m] * t) for m in range(6)))
+                assert abs(digits[i, k] - exact) <= mpmath.mpf("1e-28") * abs(exact)

@@ -229,8 +229,8 @@ def _cancelled(mag, top, work: int) -> int:
 
 def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
                scale=None) -> tuple[list, list, int]:
-    """x at ``ts`` good to ``digits`` relative to ``scale``, or without one to each time's
-    own max |x(t)|: values, sizes, dps.
+    """x at ``ts`` good to ``digits`` relative to each time's max(‖x(t)‖∞, ``scale``)
+    (without a scale, its own max |x(t)|): values, sizes, dps.
 
     The working precision covers the digits the sum cancels (measured, then redone) and
     the digits of the largest phase |z t| (an absolute error in z·t is one in the phase).
@@ -250,13 +250,13 @@ def _mp_values(data: NumericTerms, n: int, ts: list, digits: int,
         with workdps(work):
             values, sizes = _mp_sum(source.poles, n, ts)
             mag = max((s for row in sizes for s in row), default=mpmath.mpf(0))
-            if scale:
-                lost = _cancelled(mag, scale, work)
-            else:  # each time against its own max |x(t)| (not the call's largest, which
-                # let x'(1e-300) of a system driven from rest ride on x'(1e-200) beside it)
-                lost = max((_cancelled(max(row[j] for row in sizes),
-                                       max(abs(row[j]) for row in values), work)
-                            for j in range(len(ts)) if n), default=0)
+            # each time against its own max(|x(t)|, scale) (not the call's largest, which
+            # let x'(1e-300) of a system driven from rest ride on x'(1e-200) beside it,
+            # nor the scale alone, which took e^{87000} growing without a cancellation
+            # for 37,800 digits lost)
+            lost = max((_cancelled(max(row[j] for row in sizes),
+                                   max(scale or 0, *(abs(row[j]) for row in values)), work)
+                        for j in range(len(ts)) if n), default=0)
         cap = min(4 * digits + 200 + _digits(mag / scale if scale else mag) + near_zero,
                   max(limits().max_dps, 4 * digits + 200))
         if work - lost - extra >= digits + 5 or work > cap:
@@ -299,7 +299,8 @@ def float_values(data: NumericTerms, n: int, hi: np.ndarray,
 
 def mp_values(data: NumericTerms, n: int, times: Sequence[mpmath.mpf], digits: int,
               scales: Sequence[float]) -> tuple[list[list[mpmath.mpf]], list[list[mpmath.mpf]], int]:
-    """x at ``times`` with mpmath, good to ``digits`` relative to ``scales`` (one per time).
+    """x at ``times`` with mpmath, good to ``digits`` relative to max(‖x(t)‖∞, scale) (the
+    contract's scale; ``scales``: one floor per time).
 
     The working precision is raised by the digits the pole sum cancels (measured, then
     recomputed) and by the digits of the largest phase |z t|; the pole data is
