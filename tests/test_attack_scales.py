@@ -49,7 +49,7 @@ import laplace_springs as ls
 def pair(m, k, c, forcing=None):
     return ls.Scene.from_components(
         masses={{"m1": m, "m2": m}}, springs={{"k1": ("wall", "m1", k), "k2": ("m1", "m2", k)}},
-        dashpots={{"c1": ("wall", "m1", c)}}, x0={{"m1": 1}},
+        dashpots={{"c1": ("wall", "m1", c)}} if c != "0" else {{}}, x0={{"m1": 1}},
         forcing=None if forcing is None else {{"m1": forcing}})
 
 def run(m, k, c):
@@ -161,3 +161,72 @@ delta = ls.resolvent(free).determinant.as_expr().subs(ls.lam, ls.s)
     for name in ("auto", "exact"):  # the scene's own entries, by name and value
         assert f"{smallest} and K[0,0] = 2 are entries of this scene" in found[name].text
     assert "method='certified').poles" in found["modes"].text
+
+
+# ----------------------------------------------------------------------------- one mass
+
+MASSES = ["1e-300", "1e-200", "1e-100", "1e100", "1e300"]
+SPRINGS = ["1e-300", "1", "1e300"]
+DASHPOTS = ["0", "1e-300", "1", "1e300"]
+ONE_SETUP = f"""
+import laplace_springs as ls
+
+def one(m, k, c):
+    scene = ls.Scene.from_matrices(M=[[m]], C=[[c]], K=[[k]], x0=[1], v0=[0])
+    sol = ls.solve(scene)
+    values, bounds = sol.evaluate({TIMES!r}, return_error=True)
+    return sol.method, values.tolist(), bounds.tolist()
+"""
+
+
+def _log10(value: Fraction) -> int:
+    """About log10 of a positive fraction (from the digits of its numerator and denominator)."""
+    return len(str(value.numerator)) - len(str(value.denominator))
+
+
+def one_mass_reference(m: str, k: str, c: str, times: list[float]) -> list[float]:
+    """m x'' + c x' + k x = 0 from x = 1 at rest: x = (r₂e^{r₁t} − r₁e^{r₂t})/(r₂ − r₁), the
+    roots r₁ = q/m, r₂ = k/q with q = −(c + √(c² − 4mk))/2 (no cancellation), in mpmath at
+    50 digits beyond those of the largest |r|·t (a phase ωt of 1e301 takes 301 of them)."""
+    fm, fk, fc = (Fraction(v) for v in (m, k, c))
+    rates = [fk / fm, fc / fm] + ([fk / fc] if fc else [])  # |r|² ≤ k/m·…, |r| ≤ c/m, k/c
+    digits = 60 + max(0, max(_log10(rate) for rate in rates if rate) + 1)
+    out = []
+    with mpmath.workdps(digits):
+        m_, k_, c_ = (mpmath.mpf(v) for v in (m, k, c))
+        q = -(c_ + mpmath.sqrt(mpmath.mpc(c_ * c_ - 4 * m_ * k_))) / 2
+        r1, r2 = q / m_, k_ / q
+        for t in times:
+            value = (r2 * mpmath.exp(r1 * t) - r1 * mpmath.exp(r2 * t)) / (r2 - r1)
+            out.append(float(value.real))
+    return out
+
+
+def test_one_mass_across_the_range_is_served_within_its_bounds():
+    """Every (m, k, c) of the family solves and evaluates at t = 0, 1, 10 within its bound.
+    m = 1e100, k = 1e-300, c = 1e300 raised OverflowError (the modal engine's γ² of 1e400 in
+    Python floats) and m = 1e300, k = 1e-300, c = 1 ZeroDivisionError (γ² of 1e-600)."""
+    specs = [(m, k, c) for m in MASSES for k in SPRINGS for c in DASHPOTS]
+    found = attempts(ONE_SETUP, {",".join(spec): f"one{spec!r}" for spec in specs},
+                     timeout=60 + 3 * len(specs))
+    for name, outcome in found.items():
+        assert outcome.ok, (name, outcome.kind, outcome.text)
+        method, values, bounds = ast.literal_eval(outcome.text)
+        reference = one_mass_reference(*name.split(","), TIMES)
+        error = np.abs(np.array(values[0]) - reference)
+        assert np.all(error <= np.array(bounds[0])), (name, method, values, reference, bounds)
+
+
+def test_undamped_pairs_beyond_float64_in_the_classical_route_are_served():
+    """m = 1e-300..1e-100 on springs of 1e300, undamped: M^(-1/2) K M^(-1/2) overflows
+    float64 (1e600), and scipy's eigh_tridiagonal raised 'array must not contain infs or
+    NaNs' out of ls.solve; a pair with m = 1e100, k = 1e-300, c = 1e300 raised the modal
+    engine's OverflowError."""
+    specs = [("1e-300", "1e300", "0"), ("1e-200", "1e300", "0"), ("1e-100", "1e300", "0"),
+             ("1e100", "1e-300", "1e300"), ("1e300", "1e-300", "1")]
+    found = attempts(SETUP, {",".join(spec): f"run{spec!r}" for spec in specs}, timeout=120)
+    for name, outcome in found.items():
+        assert outcome.ok, (name, outcome.kind, outcome.text)
+        method, values, bounds = ast.literal_eval(outcome.text)
+        reference = pair_reference(*name.split(","), TIMES)
+        assert np.all(np.abs(np.array(values) - reference) <= np.array(bounds)), (name, method)

@@ -418,11 +418,13 @@ def _eigen(data: SymmetricScene) -> tuple[np.ndarray, np.ndarray]:
         scale = 1 / np.sqrt(data.mass)
         if data.bandwidth == 0:
             theta = data.K.diagonal() * scale**2
+            _check_finite(theta, "M⁻¹K")
             order = np.argsort(theta)
             phi = np.zeros((n, n))
             phi[order, np.arange(n)] = scale[order]
             return theta[order], phi
         A = data.K.multiply(scale[:, None]).multiply(scale[None, :]).tocsr() if n else data.K
+        _check_finite(A.data, "M^(-1/2) K M^(-1/2)")
         if data.bandwidth == 1:
             theta, V = la.eigh_tridiagonal(A.diagonal(), A.diagonal(1))
         elif data.bandwidth <= limits().banded_max_bandwidth:
@@ -435,6 +437,15 @@ def _eigen(data: SymmetricScene) -> tuple[np.ndarray, np.ndarray]:
             theta, V = la.eigh(A.toarray())
         return theta, scale[:, None] * V
     return la.eigh(data.K.toarray(), data.mass)
+
+
+def _check_finite(values: np.ndarray, name: str) -> None:
+    """A FloatRangeError when an entry of ``name`` (formed in float64) overflowed: a mass
+    of 1e-300 on a spring of 1e300 gives 1e600 (the eigen solvers raise on inf)."""
+    if not np.all(np.isfinite(values)):
+        raise FloatRangeError(f"an entry of {name} is beyond the float64 range (about "
+                              f"{float(np.max(np.abs(values))):.3g} in float64): the classical "
+                              "route cannot hold this scene; the certified and exact routes can")
 
 
 def _mass_times(data: SymmetricScene, X: np.ndarray) -> np.ndarray:

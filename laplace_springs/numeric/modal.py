@@ -678,7 +678,7 @@ def _decompose_arrays(M: np.ndarray, C: np.ndarray, K: np.ndarray, x0: np.ndarra
         Z = Z + _noise(noise, Z.shape, _EPS * _norm(Z))
         if not z:  # the reduction's own rounding, on the blocks it forms
             n = len(M)
-            Z[n:, :n] += _noise(noise, (n, n), _EPS * reduced.spread[1] / gamma**2)
+            Z[n:, :n] += _noise(noise, (n, n), _EPS * reduced.spread[1] / gamma / gamma)
             Z[n:, n:] += _noise(noise, (n, n), _EPS * reduced.spread[0] / gamma)
     return _decompose(Z, y0 / norm, back, gamma, newton, undamped), norm
 
@@ -702,7 +702,7 @@ def _undamped(reduced: _Reduced, gamma: float,
     """
     K = (reduced.K + reduced.K.T) / 2 / gamma / gamma  # symmetric up to the reduction's rounding
     if noise is not None:
-        size = _EPS * max(_norm(K), reduced.spread[1] / gamma**2)
+        size = _EPS * max(_norm(K), reduced.spread[1] / gamma / gamma)
         K = K + _noise(noise, K.shape, size, symmetric=True)
     squares, Phi = np.linalg.eigh(K)
     if squares.size and squares.min() <= 64 * _EPS * max(squares.max(), 0.0) * len(K):
