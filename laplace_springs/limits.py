@@ -157,20 +157,20 @@ class Limits:
     #: 2.4 s at 16, 10 s at 24; the written-out form has about d²/4 terms per coefficient.
     exact_expanded_max_degree: int = 4
     #: Largest work of numbering the roots of one irreducible rational factor with SymPy's
-    #: CRootOf (k roots off the real line x D bisections x b bits of its coefficients:
-    #: laplace_springs/exact/isolation.py) whose terms are written out: 1.4e-5 to 7e-5 s a
-    #: unit (masses of 1 with a dashpot of 1e-30: 4.2e4, 1-2.5 s; masses of 1e-100 with a
-    #: dashpot of 1e-100: 4.5e5, 18 s; masses of 1e-300 with a dashpot of 1e-300: 4e6, more
-    #: than 300 s). Entries of ordinary scales stay far below (2 g masses on 2e9 N/m
-    #: springs, a dashpot of 0.35 N·s/m: 5e3). Above it, a free scene with rational entries
-    #: names its roots (any degree, flint: milliseconds).
-    exact_expanded_max_isolation: int = 20_000
+    #: CRootOf (k² x D x b: k roots off the real line, D bisections, b bits of its
+    #: coefficients; laplace_springs/exact/isolation.py) whose terms are written out:
+    #: 1.5e-6 to 2e-5 s a unit (masses of 1 with a dashpot of 1e-30: 1.7e5, 1.1 s; masses
+    #: of 1e-100 with a dashpot of 1e-100: 1.8e6, 15 s; masses of 1e-300 with a dashpot of
+    #: 1e-300: 1.6e7, more than 300 s). Entries of ordinary scales stay far below (2 g
+    #: masses on 2e9 N/m springs, a dashpot of 0.35 N·s/m: 2e4). Above it, a free scene
+    #: with rational entries names its roots (any degree, flint: milliseconds).
+    exact_expanded_max_isolation: int = 200_000
     #: Largest such work the exact route takes where roots cannot be named (forced scenes,
-    #: inverse transforms, the g-basis of a forced scene): about 3 to 14 s. Beyond it the
+    #: inverse transforms, the g-basis of a forced scene): 3 to 15 s. Beyond it the
     #: factor is refused with the scene's smallest and largest entries named (the motion
     #: itself spans those scales, a frequency of 1e150 against a decay rate of 0.1: other
     #: units do not bring them closer).
-    max_exact_isolation: int = 200_000
+    max_exact_isolation: int = 2_000_000
     #: ``modes`` is exact up to this many coordinates for rational scenes.
     modes_exact_max_coordinates: int = 40
     #: Up to this many coordinates, ``modes`` of a scene with irrational entries decides

@@ -3,25 +3,25 @@
 The written-out exact terms of an irreducible factor q of degree ≥ 3 are polynomials in
 ``re`` and ``im`` of ``CRootOf(q, i)``, and SymPy numbers those roots by isolating them:
 it bisects a rectangle around all of them until each root off the real line has a box of
-its own, clear of the real and imaginary axes. Each bisection costs polynomial
-arithmetic on the coefficients, so the work grows with
+its own, clear of the real and imaginary axes and of the other boxes. Each bisection
+costs polynomial arithmetic on the coefficients, so the work grows with
 
 * k, the number of roots off the real line (real roots are isolated on the line, by
-  continued fractions, and stay cheap);
+  continued fractions, and stay cheap); the boxes are refined root by root and pair by
+  pair, and the measured cost grows about like k²;
 * D = log₂(largest |root| / smallest feature), the bisections: a feature is a real or
   imaginary part of such a root, or its distance to another one (a root on the imaginary
   axis, of an even q, has no real part to separate);
 * b, the bits of q's coefficients as a primitive integer polynomial.
 
-:func:`isolation_work` returns k·D·b. Measured on one core (SymPy 1.14, two to four
-masses, 2024 machine): 4·103·102 = 4.2e4 took 1-2.5 s (a pair of masses of 1 on springs
-of 1 with a dashpot of 1e-30), 4·87·333 = 1.2e5 4.5 s (masses of 1e-50, a dashpot of
-1e-50), 8·105·126 = 1.1e5 7.2 s (four masses, a dashpot of 1e-30), 6·205·219 = 2.7e5
-10 s, 4·336·334 = 4.5e5 15 s, 4·169·665 = 4.5e5 18 s (masses of 1e-100, a dashpot of
-1e-100); a pair of masses of 1e-300 with a dashpot of 1e-300 (4·500·1994 = 4e6) did not
-finish in 300 s. That is 1.4e-5 to 7e-5 s per unit. Entries of ordinary scales stay far
-below: a pair of 2 g masses on springs of 2·10⁹ N/m with a dashpot of 0.35 N·s/m is
-about 5e3 (0.2 s).
+:func:`isolation_work` returns k²·D·b. Measured on one core (SymPy 1.14, the quartics of a
+pair of masses m on springs k, a dashpot c on the first, one process each): 2.1e4 took
+0.26 s (m = 1, k = 1, c = 1e-10), 1.7e5 1.1 s (c = 1e-30), 6.5e5 3.3 s (c = 1e-60), 8.9e5
+2.0 s (m = 1e-100, k = 1, c = 1: one pair off the line), 1.8e6 8.3 s (c = 1e-100) and 5.5
+to 15 s (m = 1e100 or 1e-100 with c = m), 7.1e6 21 s, 8e6 18 s, 1.6e7 43 s, 97 s and more
+than 300 s (m = 1e-300, k = 1, c = 1e-300): 1.5e-6 to 2e-5 s per unit, more for large
+roots. Entries of ordinary scales stay far below: a pair of 2 g masses on springs of
+2·10⁹ N/m with a dashpot of 0.35 N·s/m is 2e4 (0.2 s).
 
 The roots come from python-flint (certified enclosures, milliseconds at any size), at a
 precision raised until every feature is resolved.
@@ -36,7 +36,7 @@ are about ε/10:
 >>> def pair(eps):
 ...     return flint.fmpq_poly([1, eps, 3, eps, 1])
 >>> round(isolation_work(pair(flint.fmpq(1, 10))))                # ε = 0.1
-137
+550
 >>> isolation_size(pair(flint.fmpq(1, 10**30)))                   # ε = 1e-30
 IsolationSize(off_line=4, bisections=103.2..., bits=102, largest='1.62', smallest='1.38e-31')
 >>> isolation_work(pair(flint.fmpq(0)))                           # undamped: roots ±iω
@@ -75,12 +75,12 @@ class IsolationSize:
 
     @property
     def work(self) -> float:
-        """k·D·b."""
-        return self.off_line * self.bisections * self.bits
+        """k²·D·b."""
+        return self.off_line**2 * self.bisections * self.bits
 
 
 def isolation_work(q: flint.fmpq_poly) -> float:
-    """k·D·b for the rational polynomial ``q`` (see the module notes): the largest of its
+    """k²·D·b for the rational polynomial ``q`` (see the module notes): the largest of its
     irreducible factors'; 0 when every root is real or on the imaginary axis."""
     return isolation_size(q).work
 

@@ -210,7 +210,7 @@ def closed_form_obstacle(q: sp.Poly) -> str | None:
     irreducible factor of degree 200 > Limits.max_exact_factor_degree = 24: ...
     >>> e = sp.Rational(1, 10**300)   # a frequency of 1.6 against a decay rate of 1e-301
     >>> print(closed_form_obstacle(sp.Poly(s**4 + e*s**3 + 3*s**2 + e*s + 1, s)))  # doctest: +ELLIPSIS
-    irreducible factor of degree 4 whose roots SymPy's CRootOf numbers only after about 4.0e+06 units of work > Limits.max_exact_isolation = 200,000 ...
+    irreducible factor of degree 4 whose roots SymPy's CRootOf numbers only after about 1.6e+07 units of work > Limits.max_exact_isolation = 2,000,000 ...
     """
     degree = q.degree()
     if degree <= 2:
@@ -259,7 +259,7 @@ def isolation_obstacle(coeffs: list[sp.Rational], cause: str = "entries of very 
         return None
     return (f"irreducible factor of degree {poly.degree()} whose roots SymPy's CRootOf numbers only "
             f"after about {size.work:.1e} units of work > Limits.max_exact_isolation = {most:,} "
-            f"(about 3-14 s; 1.4e-5 to 7e-5 s a unit): {size.off_line} roots off the real line, "
+            f"(3 to 15 s; 1.5e-6 to 2e-5 s a unit, k²·D·b): {size.off_line} roots off the real line, "
             f"{size.bisections:.0f} bisections from a root of size {size.largest} down to a part "
             f"of {size.smallest}, coefficients of {size.bits:,} bits. The dynamics span scales "
             f"that far apart ({cause}); the free motion of a scene with rational entries is "
