@@ -262,3 +262,26 @@ def forced(m, k, c):
         reference = pair_reference(*name.split(","), TIMES, forced=True)
         error = np.abs(np.array(values) - reference)
         assert np.all(error <= np.array(bounds)), (name, method, values, reference.tolist(), bounds)
+
+
+def test_float_modes_of_an_irrational_pair_beyond_float64_scales_have_its_frequencies():
+    """Masses of √2·1e-300 and 1e-300 on springs of 1 (irrational: the float64 modes): the
+    first-order matrix with entries of 1 and 1e300 gave LAPACK eigenvalues of 6e-13 and
+    1.5e-12 where the frequencies are about 1e150. Reference: the undamped frequencies of
+    (m₁λ² + 2)(m₂λ² + 1) − 1 = 0 by the quadratic formula in λ² (the dashpot of 1e-300
+    moves them by about 1e-300 of their size), in mpmath at 50 digits."""
+    found = attempts("""
+import laplace_springs as ls
+scene = ls.Scene.from_components(masses={"m1": "1e-300*sqrt(2)", "m2": "1e-300"},
+    springs={"k1": ("wall", "m1", 1), "k2": ("m1", "m2", 1)},
+    dashpots={"c1": ("wall", "m1", "1e-300")}, x0={"m1": 1})
+""", {"modes": "sorted(float(mode.natural_frequency) for mode in ls.modes(scene))"}, timeout=60)
+    assert found["modes"].ok, found["modes"]
+    frequencies = ast.literal_eval(found["modes"].text)
+    with mpmath.workdps(50):
+        m1, m2 = mpmath.sqrt(2) * mpmath.mpf("1e-300"), mpmath.mpf("1e-300")
+        # m1 m2 w⁴ − (m1 + 2 m2) w² + 1 = 0 for w² = −λ²
+        a, b = m1 * m2, -(m1 + 2 * m2)
+        root = mpmath.sqrt(b * b - 4 * a)
+        expected = sorted(float(mpmath.sqrt((-b + sign * root) / (2 * a))) for sign in (-1, 1))
+    assert np.allclose(frequencies, expected, rtol=1e-13, atol=0), (frequencies, expected)

@@ -784,11 +784,17 @@ def float_eigenpairs(scene: Scene, general_max: int = 1000) -> list[tuple[comple
         Minv = np.linalg.inv(M)
     except np.linalg.LinAlgError:
         raise SceneError("the float64 modes need an invertible mass matrix") from None
+    # time in units of 1/γ, γ = √‖M⁻¹K‖ (else ‖M⁻¹C‖): Z = [[0, I], [−A/γ², −B/γ]] has
+    # entries of order 1, where LAPACK's eig of the unscaled Z with entries of 1 and 1e300
+    # (masses of 1e-300 on springs of 1) gave eigenvalues of 1e-12 for 1e150
+    A, B = Minv @ K, Minv @ C
+    gamma = math.sqrt(float(np.linalg.norm(A, 1))) or float(np.linalg.norm(B, 1)) or 1.0
     Z = np.zeros((2 * n, 2 * n))
     Z[:n, n:] = np.eye(n)
-    Z[n:, :n] = -Minv @ K
-    Z[n:, n:] = -Minv @ C
+    Z[n:, :n] = -(A / gamma) / gamma
+    Z[n:, n:] = -B / gamma
     values, vectors = scipy.linalg.eig(Z)
+    values = values * gamma
     tiny = 1e-12 * max(float(np.max(np.abs(values), initial=0.0)), 1e-300)
     out = []
     for k, lam in enumerate(values):
