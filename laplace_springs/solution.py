@@ -309,13 +309,14 @@ class Solution(ABC):
         floor = self._floor(0)
         if not floor > 0:
             return None
-        with np.errstate(all="ignore"):
-            evaluator: Any = self._evaluator(self.method)  # the primary, as executed
-            values, bounds = (np.array(a, dtype=float) for a in evaluator(times, 0, target))
-            sizes = np.abs(values)
-            if not (float(bounds.max()) / floor <= target
-                    and float(sizes.max()) <= _HUGE):  # NaN fails both
-                return None
+        # the primary, as executed (the standing engine's evaluation keeps NumPy quiet and
+        # returns new float64 arrays)
+        evaluator: Any = self._evaluator(self.method)
+        values, bounds = evaluator(times, 0, target)
+        sizes = np.abs(values)
+        if not (float(np.maximum.reduce(bounds, axis=None)) / floor <= target
+                and float(np.maximum.reduce(sizes, axis=None)) <= _HUGE):  # NaN fails both
+            return None
         return values, _floored(bounds, sizes)
 
     def plan(self, times: Any = None, *, target: float | None = None, dps: int | None = None,

@@ -249,7 +249,7 @@ def _float_times(times: np.ndarray) -> Times | None:
     if times.size > limits().max_times:
         return None
     hi = times.astype(float, copy=True).ravel()
-    first, last = float(hi.min()), float(hi.max())
+    first, last = float(np.minimum.reduce(hi)), float(np.maximum.reduce(hi))
     if not (first >= 0 and last < math.inf):
         return None
     return Times(hi, np.zeros(hi.size), (), (first, last))

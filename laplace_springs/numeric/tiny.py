@@ -182,8 +182,8 @@ def _read(scene: Scene) -> TinyData | str:
     zero = fmpq(0)
     x0_exact = tuple(x0.get((i, 0), zero) for i in range(n))
     v0_exact = tuple(v0.get((i, 0), zero) for i in range(n))
-    data = TinyData(n, M, C, K, x0_exact, v0_exact, np.array([float(v) for v in x0_exact]),
-                    np.array([float(v) for v in v0_exact]))
+    start = np.array([float(v) for v in x0_exact + v0_exact])
+    data = TinyData(n, M, C, K, x0_exact, v0_exact, start[:n], start[n:])
     return _range_refusal(data) or data
 
 
@@ -364,11 +364,11 @@ class TinyMotion:
             values, bounds = self.form.evaluate(t, lo, order)
             # one pass: the sum is finite only where every value and bound is (an overflow
             # of the sum of finite numbers only takes the careful path below)
-            if not math.isfinite(float(np.add(values, bounds).sum())):
+            if not math.isfinite(float(np.add.reduce(values + bounds, axis=None))):
                 bounds = np.where(np.isfinite(values) & np.isfinite(bounds), bounds, np.inf)
         if times.span[0] == 0:  # x^(order)(0) is the initial data: exactly, rounded once
             initial = self.data.initial(order)
-            zeros = np.flatnonzero(t == 0)
+            zeros = (t == 0).nonzero()[0]
             rounding = [U * abs(v) for v in initial.tolist()]
             if zeros.size == 1:  # one column: a view
                 values[:, zeros[0]], bounds[:, zeros[0]] = initial, rounding

@@ -98,9 +98,9 @@ def _norm(a: np.ndarray) -> float:
 
 
 def _row_norms(a: np.ndarray) -> np.ndarray:
-    """The 2-norms of the rows (``hypot`` accumulated: no overflow of the squares)."""
-    rows: np.ndarray = np.hypot.reduce(np.abs(a), axis=1)
-    return rows
+    """The 2-norms of the rows (``math.hypot``: no overflow of the squares; in Python, which
+    for these few entries costs less than NumPy's reductions)."""
+    return np.array([math.hypot(*map(abs, row)) for row in a.tolist()])
 
 
 def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -115,15 +115,15 @@ def _eig(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _inv(X: np.ndarray) -> tuple[np.ndarray, float] | None:
-    """X⁻¹ (complex) and its largest |entry|, or None when X is singular or the inverse is
-    not finite."""
+    """X⁻¹ (complex) and its Frobenius norm, or None when X is singular or the norm is not
+    finite (an entry that is not, or one beyond 1e154)."""
     gufunc = getattr(_LINALG, "inv", None)
     try:
         Y = np.linalg.inv(X) if gufunc is None else gufunc(X, signature="D->D")
     except np.linalg.LinAlgError:
         return None
-    largest = float(np.abs(Y).max())  # NaN propagates
-    return (Y, largest) if math.isfinite(largest) else None
+    norm = _norm(Y)  # NaN propagates
+    return (Y, norm) if math.isfinite(norm) else None
 
 
 def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -247,25 +247,24 @@ class BlockMotion:
         self.y0, self.y0_norm = np.array(start), math.hypot(*start)
         w, V = _eig(self.Z)
         self.poles = w
-        sizes = np.abs(w)
-        listed: list[float] = sizes.tolist()
+        listed = [abs(pole) for pole in w.tolist()]
         #: ‖diag(w)‖_F (NaN or inf when an eigenvalue is not finite)
         self.w_norm = math.hypot(*listed)
         if not math.isfinite(self.w_norm):
-            self.radius = float(sizes.max())  # NaN propagates
+            self.radius = math.nan if any(map(math.isnan, listed)) else max(listed)
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
         self.radius = max(listed)
         inverse = _inv(V)
-        Y, largest = inverse if inverse is not None else (None, math.inf)
-        X = self._layout(w, V, Y, largest)
-        self._finish(w, X, Y if X is V else None)
+        Y, Y_norm = inverse if inverse is not None else (None, math.inf)
+        X = self._layout(w, V, Y, Y_norm)
+        self._finish(w, X, (Y, Y_norm) if X is V and Y is not None else None)
 
     # -- the decomposition -------------------------------------------------------------
     def _layout(self, w: np.ndarray, V: np.ndarray, Y: np.ndarray | None,
-                largest: float) -> np.ndarray:
+                Y_norm: float) -> np.ndarray:
         """1 x 1 blocks for well-conditioned eigenvalues, 2 x 2 blocks for defective pairs;
-        the basis X (V itself when there are no 2 x 2 blocks). ``largest`` is max |Y_ij|
+        the basis X (V itself when there are no 2 x 2 blocks). ``Y_norm`` is ‖Y‖_F
         (Y = V⁻¹, None when V is singular).
 
         Sets ``columns`` (the evaluated 1 x 1 blocks: a real eigenvalue, the upper member
@@ -276,8 +275,8 @@ class BlockMotion:
         """
         size = w.size
         pairs: dict[int, tuple[int, int]] = {}
-        # ‖row of Y‖₂ ≤ √size·max|Y_ij|: rows need measuring only beyond that
-        if Y is None or math.sqrt(size) * largest > _CLUSTER_CONDITION:
+        # ‖row of Y‖₂ ≤ ‖Y‖_F: rows need measuring only beyond that
+        if Y is None or Y_norm > _CLUSTER_CONDITION:
             with np.errstate(over="ignore"):  # an infinite condition number is one
                 condition = (np.full(size, np.inf) if Y is None
                              else _row_norms(Y))
@@ -414,20 +413,21 @@ class BlockMotion:
         return P * self.poles if self.B is None else P @ self.B
 
     def _finish(self, w: np.ndarray, X: np.ndarray,
-                Y: np.ndarray | None) -> None:
-        """Coefficients, residuals and the constants of the bound. The rounding of each
-        product is bounded through norms (‖|A||B|‖_F ≤ ‖A‖_F‖B‖_F)."""
+                inverse: tuple[np.ndarray, float] | None) -> None:
+        """Coefficients, residuals and the constants of the bound (``inverse``: X⁻¹ and its
+        Frobenius norm, when known). The rounding of each product is bounded through norms
+        (‖|A||B|‖_F ≤ ‖A‖_F‖B‖_F)."""
         size = X.shape[0]
         self.X = X
         self.B, moved = self._block_matrix(w)
         B_norm = self.w_norm if self.B is None else _norm(self.B)
         self.B_rounding = U * B_norm
-        if Y is None:
+        if inverse is None:
             inverse = _inv(X)
             if inverse is None:
                 self.failure = "the eigenvector basis is singular"
                 return
-            Y = inverse[0]
+        Y, Y_norm = inverse
         # R = Z X − X B in extended precision (Z exact to 2⁻⁶⁴), then one product with Y
         # gives the coefficients Y y₀, Y X (for θ) and Y R (for φ)
         X_long = X.astype(np.clongdouble)
@@ -442,7 +442,7 @@ class BlockMotion:
         for j, i in self.mirrors:
             coefficients[j] = coefficients[i].conjugate()
         self.c = c = np.array(coefficients)
-        X_norm, Y_norm, R_norm = _norm(X), _norm(Y), _norm(R)
+        X_norm, R_norm = _norm(X), _norm(R)
         misfit, F_norm = _norm(_eye(size) - product[:, 1:size + 1]), _norm(product[:, size + 1:])
         gamma = (2 * size + 4) * U
         theta = misfit + gamma * Y_norm * X_norm
@@ -490,7 +490,7 @@ class BlockMotion:
             return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
         weights = self._order(order)
         if self.rates.size:  # Re Σ_j g_j e^{λ_j t}, summed in the order of j for every time
-            terms = (weights.g[:, :, None] * np.exp(np.multiply.outer(self.rates, t))).real
+            terms = (weights.g[:, :, None] * np.exp(self.rates[:, None] * t)).real
             values = terms[:, 0].copy()
             for j in range(1, self.rates.size):  # (numpy's sum would pair 8 or more terms)
                 values += terms[:, j]
@@ -617,35 +617,35 @@ class BlockMotion:
         tiny = 1e-300 * (1 + t)
         if not weights.doubles:  # q = 1, and the weights are the 1 x 1 blocks' alone
             G = np.exp((self.growth + phi) * t) * _SAFETY
-            bounds = np.multiply.outer(weights.rows, G * (phi * self.c_norm * t + self.rho0))
-            bounds += np.multiply.outer(weights.size, decay * (shift * _SAFETY) + tiny)
+            bounds = weights.rows[:, None] * (G * (phi * self.c_norm * t + self.rho0))
+            bounds += weights.size[:, None] * (decay * (shift * _SAFETY) + tiny)
             if weights.F_rows is not None:
-                bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
-                                            * (self.c_norm + self.rho0) * G)
+                bounds += weights.F_rows[:, None] * ((phi + self.B_rounding)
+                                                      * (self.c_norm + self.rho0) * G)
             return bounds
-        floor = np.multiply.outer(weights.size, tiny)
+        floor = weights.size[:, None] * tiny
         K, nu = self._growth_constants
         nu_t = nu * t
         q = np.minimum(K, 1 + nu_t)
         spread = decay * np.exp(q * phi * t)
         # ∫₀ᵗ q(t − s) q(s) ds ≤ t·q(t)², and ≤ t(1 + νt + (νt)²/6) as q(τ) ≤ 1 + ντ
         integral = t * np.minimum(q * q, 1 + nu_t + nu_t * nu_t / 6)
-        bounds = np.multiply.outer(weights.rows, spread * (phi * self.c_norm * integral
-                                                           + q * self.rho0))
+        bounds = weights.rows[:, None] * (spread * (phi * self.c_norm * integral
+                                                    + q * self.rho0))
         if weights.F_rows is not None:
-            bounds += np.multiply.outer(weights.F_rows, (phi + self.B_rounding)
-                                        * (self.c_norm + self.rho0) * q * spread)
+            bounds += weights.F_rows[:, None] * ((phi + self.B_rounding)
+                                                  * (self.c_norm + self.rho0) * q * spread)
         # the 2 x 2 blocks, each within e^{μt} ≥ e^{Re μ_b t}·cosh(Re √d·t): cosh and sinh
         # of √d·t, whose argument's rounding moves them by ≤ 2u|√d|t of their envelopes
         # (|C| ≤ 1·, |S| ≤ t·), the libm by 4u; and the rounding δd of d: |∂C/∂d| =
         # t|S|/2 ≤ t²/2·, |∂S/∂d| ≤ t³/4·cosh(√|d|·t) (the series) with s = max |√d|
         largest = self._largest_root
         rounding = decay * (shift + (2 * largest * t + 4) * U)
-        bounds += np.multiply.outer(weights.single_size + weights.double_C, rounding)
-        bounds += np.multiply.outer(weights.double_S, rounding * t)
+        bounds += (weights.single_size + weights.double_C)[:, None] * rounding
+        bounds += weights.double_S[:, None] * (rounding * t)
         squared = decay * (t * t)
-        bounds += np.multiply.outer(weights.d_C, squared / 2)
-        bounds += np.multiply.outer(weights.d_S, squared * t * np.cosh(largest * t) / 4)
+        bounds += weights.d_C[:, None] * (squared / 2)
+        bounds += weights.d_S[:, None] * (squared * t * np.cosh(largest * t) / 4)
         return bounds * _SAFETY + floor
 
 
@@ -665,7 +665,7 @@ class _Order:
         c = motion.c
         g = L[:, motion.columns] * (motion.weights * c[motion.columns])  # (n, blocks)
         self.g = g
-        self.single_size = np.abs(g).sum(axis=1)
+        self.single_size = np.array([sum(map(abs, row)) for row in g.tolist()])
         self.rows = _row_norms(L)
         self.F_rows = F_rows
         self.doubles = []
