@@ -463,10 +463,13 @@ class BlockMotion:
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
         self.c_norm = c_norm
         self.X_norm = X_norm
-        rates = self.rates.tolist()
-        self.growth = max([block.growth for block in self.doubles] + [r.real for r in rates])
-        self.speed = max([abs(block.mu) + block.nu for block in self.doubles]
-                         + [abs(r) for r in rates])
+        if self.doubles:
+            rates = self.rates.tolist()
+            self.growth = max([block.growth for block in self.doubles] + [r.real for r in rates])
+            self.speed = max([abs(block.mu) + block.nu for block in self.doubles]
+                             + [abs(r) for r in rates])
+        else:  # every eigenvalue or its conjugate is evaluated
+            self.growth, self.speed = max(rate.real for rate in w.tolist()), self.radius
         self._orders: dict[int, _Order] = {}
 
     # -- evaluation --------------------------------------------------------------------
