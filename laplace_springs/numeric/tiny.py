@@ -469,11 +469,8 @@ class _Scalar:
         disc = (c * c - 4 * m * k) / (4 * m * m)
         self.alpha = float(alpha)
         self.sign = int(disc > 0) - int(disc < 0)
-        x, v = data.x0_exact[0], data.v0_exact[0]
-        a = -(c * v + k * x) / m
-        jerk = -(c * a + k * v) / m
-        #: (p, w) per derivative order
-        self.data = [(float(p), float(q - alpha * p)) for p, q in ((x, v), (v, a), (a, jerk))]
+        self._exact = (m, c, k, alpha, data.x0_exact[0], data.v0_exact[0])
+        self._pw: dict[int, tuple[float, float]] = {}  # (p, w) per order, made when asked
         if self.sign < 0:
             self.omega = _sqrt_dd(-disc)
             w_hi = self.omega[0]
@@ -486,11 +483,22 @@ class _Scalar:
             self.poles = np.array(self.rates, dtype=complex)
         self.radius = max(abs(complex(p)) for p in self.poles)
 
+    def _initial(self, order: int) -> tuple[float, float]:
+        """(p, w) of derivative ``order``: x^(r)(0) and x^(r+1)(0) − α·x^(r)(0), formed
+        exactly (x'' = −(c x' + k x)/m and its derivative), rounded once."""
+        found = self._pw.get(order)
+        if found is None:
+            m, c, k, alpha, p, q = self._exact
+            for _ in range(order):
+                p, q = q, -(c * q + k * p) / m
+            found = self._pw[order] = (float(p), float(q - alpha * p))
+        return found
+
     def evaluate(self, t: np.ndarray, lo: np.ndarray | None,
                  order: int) -> tuple[np.ndarray, np.ndarray]:
         """Values and bounds, shape (1, len(t)), at the times t + lo (lo None: zero;
         |lo| ≤ u·t, which the bounds cover wherever the values are taken at t)."""
-        p, w = self.data[order]
+        p, w = self._initial(order)
         if self.sign < 0:
             C, S, err_C, err_S = self._under(t, lo)
         elif self.sign == 0:
@@ -519,7 +527,7 @@ class _Scalar:
         T = t_max
         if not T < 1e300:
             return math.inf
-        p, w = (abs(v) for v in self.data[0])
+        p, w = (abs(v) for v in self._initial(0))
         E = _exp_at_most(self.alpha, T)
         if self.sign < 0:
             omega = self.omega[0]

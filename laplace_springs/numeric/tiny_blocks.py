@@ -242,6 +242,7 @@ class BlockMotion:
                  floats: tuple[list[float], list[float]] | None = None) -> None:
         self.failure: str | None = None
         self.n = n
+        self._square: np.ndarray | None = None  # Z², for the pairs of 2 x 2 blocks
         self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B, floats)
         start = [*x0.tolist(), *[v / self.sigma for v in v0.tolist()]]
         self.y0, self.y0_norm = np.array(start), math.hypot(*start)
@@ -361,10 +362,7 @@ class BlockMotion:
                 return None  # the lower pair: built with the upper one
             if max(j, k) + 1 >= w.size or w[j + 1] != np.conj(w[j]) or w[k + 1] != np.conj(w[k]):
                 return None
-        Z = self.Z
-        eye = _eye(Z.shape[0])
-        P = (Z - w[j] * eye) @ (Z - w[k] * eye)
-        _, singular, Vh = _svd(P.real if real else P)
+        _, singular, Vh = _svd(self._pair_product(w[j], w[k], real))
         if singular.size < 3 or singular[-3] < _SUBSPACE_GAP * singular[-2]:
             return None
         basis = Vh[-2:].conj().T
@@ -379,6 +377,20 @@ class BlockMotion:
         twin = _Block(mirror, block.mu.conjugate(), block.N.conj(), block.d.conjugate(),
                       block.d_error, skip=True)
         return [block, twin]
+
+    def _pair_product(self, w1: complex, w2: complex, real: bool) -> np.ndarray:
+        """(Z − w₁)(Z − w₂), whose null space is the pair's invariant subspace: for a real
+        pair (two real eigenvalues or a conjugate pair) Z² − (w₁ + w₂)Z + w₁w₂·I in real
+        arithmetic (Z² formed once per decomposition)."""
+        Z = self.Z
+        if not real:
+            eye = _eye(Z.shape[0])
+            return (Z - w1 * eye) @ (Z - w2 * eye)
+        if self._square is None:
+            self._square = Z @ Z
+        P = self._square - (w1 + w2).real * Z
+        P.flat[::Z.shape[0] + 1] += (w1 * w2).real
+        return P
 
     def _block(self, columns: tuple[int, int], basis: np.ndarray) -> _Block:
         """The block basisᴴ Z basis = [[b₀₀, b₀₁], [b₁₀, b₁₁]] as μI + N with μ = (b₀₀ + b₁₁)/2
