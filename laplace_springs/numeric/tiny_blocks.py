@@ -200,17 +200,25 @@ class _Block:
     ‖N‖_F, ``root`` = √d (the eigenvalues are μ ± √d) and ``growth`` (their largest real
     part) are computed once."""
 
-    __slots__ = ("columns", "mu", "N", "d", "d_error", "weight", "skip", "real", "nu", "root",
-                 "growth")
+    __slots__ = ("columns", "mu", "entries", "N", "d", "d_error", "weight", "skip", "real",
+                 "nu", "root", "growth")
 
-    def __init__(self, columns: tuple[int, int], mu: complex, N: np.ndarray, d: complex,
-                 d_error: float, *, weight: int = 1, skip: bool = False,
-                 real: bool = False) -> None:
-        self.columns, self.mu, self.N, self.d, self.d_error = columns, complex(mu), N, d, d_error
+    def __init__(self, columns: tuple[int, int], mu: complex,
+                 entries: tuple[complex, complex, complex], d: complex, d_error: float, *,
+                 weight: int = 1, skip: bool = False, real: bool = False) -> None:
+        a, b01, b10 = self.entries = entries  # N = [[a, b01], [b10, −a]]
+        self.columns, self.mu, self.d, self.d_error = columns, complex(mu), d, d_error
+        self.N = np.array([[a, b01], [b10, -a]])
         self.weight, self.skip, self.real = weight, skip, real
-        self.nu = _norm(N)
+        size = abs(a)
+        self.nu = math.hypot(size, size, abs(b01), abs(b10))
         self.root = cmath.sqrt(d)
         self.growth = self.mu.real + abs(self.root.real)
+
+    def conjugate(self, columns: tuple[int, int]) -> _Block:
+        """The conjugate block on ``columns`` (a lower twin: skipped in evaluation)."""
+        return _Block(columns, self.mu.conjugate(), tuple(v.conjugate() for v in self.entries),
+                      self.d.conjugate(), self.d_error, skip=True)
 
 
 class BlockMotion:
@@ -331,7 +339,7 @@ class BlockMotion:
         when the two are mutually nearest, much closer to each other than to the rest, and
         close relative to their size."""
         rates: list[complex] = w.tolist()
-        flagged = [j for j in range(w.size) if condition[j] > _CLUSTER_CONDITION]
+        flagged = [j for j, size in enumerate(condition.tolist()) if size > _CLUSTER_CONDITION]
         radius = max(abs(rate) for rate in rates)
         nearest: dict[int, int] = {}
         for j in flagged:
@@ -374,9 +382,7 @@ class BlockMotion:
         mirror = (j + 1, k + 1)
         X[:, list(mirror)] = basis.conj()
         block.weight = 2
-        twin = _Block(mirror, block.mu.conjugate(), block.N.conj(), block.d.conjugate(),
-                      block.d_error, skip=True)
-        return [block, twin]
+        return [block, block.conjugate(mirror)]
 
     def _pair_product(self, w1: complex, w2: complex, real: bool) -> np.ndarray:
         """(Z − w₁)(Z − w₂), whose null space is the pair's invariant subspace: for a real
@@ -403,22 +409,24 @@ class BlockMotion:
         size = abs(a) ** 2 + abs(b01 * b10)
         # each complex product and the sum: ≤ 2√2u + 2u of the terms; √d's rounding (≤ 2u
         # relative, so root² is d within 4u|d|): 8u of the terms and 4u of |d| in all
-        return _Block(columns, (b00 + b11) / 2, np.array([[a, b01], [b10, -a]]), d,
-                      8 * U * size + 4 * U * abs(d))
+        return _Block(columns, (b00 + b11) / 2, (a, b01, b10), d, 8 * U * size + 4 * U * abs(d))
 
     def _block_matrix(self, w: np.ndarray) -> tuple[np.ndarray | None, float]:
         """B as a matrix (None when it is diag(w): no 2 x 2 blocks) and ‖μI + N − B‖, the
         rounding of μ and a on the 2 x 2 blocks."""
         if not self.doubles:
             return None, 0.0
-        B = np.diag(w)
+        rates: list[complex] = w.tolist()
+        size = len(rates)
+        rows = [[0j] * size for _ in range(size)]
+        for i, rate in enumerate(rates):
+            rows[i][i] = rate
         moved = 0.0
         for block in self.doubles:
-            (i, j), N = block.columns, block.N
-            B[i, i], B[j, j] = block.mu + N[0, 0], block.mu + N[1, 1]
-            B[i, j], B[j, i] = N[0, 1], N[1, 0]
-            moved = max(moved, 2 * U * (abs(block.mu) + abs(N[0, 0])))
-        return B, moved
+            (i, j), (a, b01, b10), mu = block.columns, block.entries, block.mu
+            rows[i][i], rows[j][j], rows[i][j], rows[j][i] = mu + a, mu - a, b01, b10
+            moved = max(moved, 2 * U * (abs(mu) + abs(a)))
+        return np.array(rows), moved
 
     def _times_B(self, P: np.ndarray) -> np.ndarray:
         """P·B (B diagonal: a scaling of P's columns)."""
