@@ -477,7 +477,7 @@ class BlockMotion:
         c_norm = math.hypot(*map(abs, coefficients))
         y0_norm = self.y0_norm
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
-        r0 = _norm(X_long @ c.astype(np.clongdouble) - self.y0)
+        r0 = _norm(X_long @ c - self.y0)  # (c is promoted to X_long's precision)
         r0_error = (2 * size + 4) * _U_LONG * (X_norm * c_norm + y0_norm) + U * (y0_norm + r0)
         self.phi = phi * _SAFETY
         self.rho0 = inverse * (r0 + r0_error) * _SAFETY
@@ -514,9 +514,12 @@ class BlockMotion:
         weights = self._order(order)
         if self.rates.size:  # Re Σ_j g_j e^{λ_j t}, summed in the order of j for every time
             terms = (weights.g[:, :, None] * np.exp(self.rates[:, None] * t)).real
-            values = terms[:, 0].copy()
-            for j in range(1, self.rates.size):  # (numpy's sum would pair 8 or more terms)
-                values += terms[:, j]
+            if self.rates.size < 8:  # numpy adds fewer than 8 terms in order
+                values = np.add.reduce(terms, axis=1)
+            else:  # (and pairs 8 or more)
+                values = terms[:, 0].copy()
+                for j in range(1, self.rates.size):
+                    values += terms[:, j]
         else:
             values = np.zeros((n, t.size))
         for block, g_C, g_S, _ in weights.doubles:
@@ -600,6 +603,31 @@ class BlockMotion:
             return (E * (g_C + t * g_S)).real
         return (E * (np.cosh(root * t) * g_C + (np.sinh(root * t) / root) * g_S)).real
 
+    def _plain(self, weights: _Order) -> tuple[np.ndarray, ...]:
+        """The terms of the bound without 2 x 2 blocks (q = 1), per coordinate i and time t:
+
+        * ‖L_i‖·G(t)(φ‖c‖t + ρ₀), G = e^{(g+φ)t}·_SAFETY (the decomposition's error);
+        * Σ_j|g_ij|·e^{gt}·(shift(t)·_SAFETY + 1e-300(1 + t)e^{−gt}) (the evaluation's
+          rounding, and e^{wt} below 2⁻¹⁰²², which loses relative accuracy);
+        * for x'': F_rows_i·(φ + u‖B‖)(‖c‖ + ρ₀)·G(t) (F itself, and B's rounding);
+
+        as rates r_k, slopes s_k, offsets o_k and per-row weights W_ik of
+        W_ik·e^{r_k t}(s_k t + o_k) (columns (k, 1), the weights (n, k, 1)), kept with the
+        order's weights. shift(t) = (2n + 8)u + 3.03u·speed·t (see :meth:`_bounds`)."""
+        phi, c, rho0, S = self.phi, self.c_norm, self.rho0, _SAFETY
+        rates = [self.growth + phi, self.growth, 0.0]
+        slopes = [phi * c * S, 3.03 * U * self.speed * S, 1e-300]
+        offsets = [rho0 * S, (2 * self.n + 8) * U * S, 1e-300]
+        columns = [weights.rows, weights.size, weights.size]
+        if weights.F_rows is not None:
+            rates.append(self.growth + phi)
+            slopes.append(0.0)
+            offsets.append((phi + self.B_rounding) * (c + rho0) * S)
+            columns.append(weights.F_rows)
+        table = np.array([rates, slopes, offsets])[:, :, None]
+        weights.plain = (table[0], table[1], table[2], np.array(columns).T[:, :, None])
+        return weights.plain
+
     @cached_property
     def _largest_root(self) -> float:
         """max |√d| over the 2 x 2 blocks (a twin's is its partner's)."""
@@ -633,19 +661,17 @@ class BlockMotion:
         the libm, the product with the weight, the real part and the sum over 2n terms
         add (2n + 8)u. Every term is a per-coordinate constant times a per-time function,
         computed elementwise: each time's bound depends on that time alone."""
+        if not weights.doubles:  # q = 1, and the weights are the 1 x 1 blocks' alone
+            rates, slopes, offsets, per_row = weights.plain or self._plain(weights)
+            # Σ_k per_row_k ⊗ e^{r_k t}(s_k t + o_k), added in the order of k (fewer than 8)
+            terms = per_row * (np.exp(rates * t) * (slopes * t + offsets))
+            bounds: np.ndarray = np.add.reduce(terms, axis=1)
+            return bounds
         phi = self.phi
         shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t
         decay = np.exp(self.growth * t)
         # e^{wt} below 2⁻¹⁰²² loses relative accuracy: 1e-300 of the weights, absolute
         tiny = 1e-300 * (1 + t)
-        if not weights.doubles:  # q = 1, and the weights are the 1 x 1 blocks' alone
-            G = np.exp((self.growth + phi) * t) * _SAFETY
-            bounds = weights.rows[:, None] * (G * (phi * self.c_norm * t + self.rho0))
-            bounds += weights.size[:, None] * (decay * (shift * _SAFETY) + tiny)
-            if weights.F_rows is not None:
-                bounds += weights.F_rows[:, None] * ((phi + self.B_rounding)
-                                                      * (self.c_norm + self.rho0) * G)
-            return bounds
         floor = weights.size[:, None] * tiny
         K, nu = self._growth_constants
         nu_t = nu * t
@@ -691,6 +717,8 @@ class _Order:
         self.single_size = np.array([sum(map(abs, row)) for row in g.tolist()])
         self.rows = _row_norms(L)
         self.F_rows = F_rows
+        #: the bound's terms without 2 x 2 blocks (made by BlockMotion._plain)
+        self.plain: tuple[np.ndarray, ...] | None = None
         self.doubles = []
         #: Σ of every weight's size per row (the absolute floor of the bound)
         self.size = self.single_size
