@@ -217,7 +217,8 @@ class _Block:
 
     def conjugate(self, columns: tuple[int, int]) -> _Block:
         """The conjugate block on ``columns`` (a lower twin: skipped in evaluation)."""
-        return _Block(columns, self.mu.conjugate(), tuple(v.conjugate() for v in self.entries),
+        a, b01, b10 = self.entries
+        return _Block(columns, self.mu.conjugate(), (a.conjugate(), b01.conjugate(), b10.conjugate()),
                       self.d.conjugate(), self.d_error, skip=True)
 
 
