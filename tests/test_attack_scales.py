@@ -155,21 +155,28 @@ forced = pair({m!r}, {k!r}, {c!r}, forcing="cos(t)")
 free = pair({m!r}, {k!r}, {c!r})
 delta = ls.resolvent(free).determinant.as_expr().subs(ls.lam, ls.s)
 """, {
-        "auto": "ls.solve(forced)",
+        "auto": "ls.solve(forced).method",
         "exact": "ls.solve(forced, method='exact')",
         "inverse": "ls.inverse_laplace(1 / delta, ls.s, ls.t)",
         "modes": "ls.modes(free)",
         "definitions": "ls.solve(free, method='exact').substituted()",
     }, timeout=120)
     smallest = "M[0,0] = 1e-300" if m == "1e-300" else "C[0,0] = 1e-300"
-    expected = {"auto": "LimitError", "exact": "InversionError", "inverse": "InversionError",
+    # "auto": the exo engine serves the forced pair where the exact route refuses and its
+    # scenes hold in float64 (tests/test_attack_forced_small.py checks the values); with
+    # masses of 1e-300 no engine holds it (the joined scene has an entry of 2.7e300)
+    expected = {"exact": "InversionError", "inverse": "InversionError",
                 "modes": "LimitError", "definitions": "InversionError"}
+    if m == "1e-300":
+        expected["auto"] = "LimitError"
+    else:
+        assert found["auto"].ok and found["auto"].text == "'certified+exo'", found["auto"]
     for name, kind in expected.items():
         outcome = found[name]
         assert outcome.kind == kind, (name, outcome)
         assert "> Limits.max_exact_isolation = 2,000,000" in outcome.text, (name, outcome.text)
         assert "ls.using_limits(max_exact_isolation=" in outcome.text, (name, outcome.text)
-    for name in ("auto", "exact"):  # the scene's own entries, by name and value
+    for name in expected.keys() & {"auto", "exact"}:  # the scene's own entries, by name and value
         assert f"{smallest} and K[0,0] = 2 are entries of this scene" in found[name].text
     assert "method='certified').poles" in found["modes"].text
 

@@ -39,6 +39,9 @@ decides exactly. Scenes above :attr:`~laplace_springs.limits.Limits.max_exact_co
 
 from __future__ import annotations
 
+import weakref
+from typing import Any
+
 import flint
 import sympy as sp
 
@@ -151,8 +154,22 @@ def exact_refusal(scene: Scene) -> str | None:
 
     See the module notes: every refusal here is one the partial-fraction engine would
     make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate that
-    would not finish).
+    would not finish). The answer is kept with the scene for the limits in force: the
+    planner reads it for small forced scenes and the exact engine's build again.
     """
+    current = limits()
+    found = _SCREENED.get(scene)
+    if found is None or found[0] is not current:
+        found = _SCREENED[scene] = (current, _refusal(scene))
+    return found[1]
+
+
+#: scene -> (the limits in force, its screen): kept as long as the scene lives.
+_SCREENED: weakref.WeakKeyDictionary[Scene, tuple[Any, str | None]] = weakref.WeakKeyDictionary()
+
+
+def _refusal(scene: Scene) -> str | None:
+    """:func:`exact_refusal`, computed."""
     n = scene.n
     if n > limits().max_exact_coordinates:
         return (

@@ -236,13 +236,22 @@ def _modal_expectation(facts: SceneFacts, request: Request) -> str | None:
     return f"its bound is expected to miss the target ({expected:.1e} > {request.target:g})"
 
 
+def _screen(facts: SceneFacts) -> str | None:
+    """The exact route's own refusal of a small forced scene, where the facts quote its
+    screen (:func:`~laplace_springs.planning.facts.scene_facts`), else None."""
+    quote = facts.quote("exact")
+    return None if quote is None else quote.refusal
+
+
 def _exact_refusal(facts: SceneFacts, request: Request) -> str | None:
-    return _size(facts, "max_exact_coordinates", "coordinates")
+    return _size(facts, "max_exact_coordinates", "coordinates") or _screen(facts)
 
 
 def _exo_refusal(facts: SceneFacts, request: Request) -> str | None:
-    """Formula and periodic forces on numeric scenes from Limits.exo_min_coordinates on
-    (below, exact partial fractions give closed forms in seconds)."""
+    """Formula and periodic forces on numeric scenes from Limits.exo_min_coordinates on;
+    below, exact partial fractions give closed forms in seconds, and the exo engine serves
+    only the scenes the exact route refuses (its screen, quoted by the facts: entries of
+    very different sizes whose roots SymPy would number only after too much work)."""
     if not facts.forced:
         return "the scene is not forced (the free-motion engines serve it)"
     if facts.symbolic:
@@ -252,14 +261,14 @@ def _exo_refusal(facts: SceneFacts, request: Request) -> str | None:
     if not facts.first_order:
         return "the scene has no first-order form (massless nodes not held by dashpots)"
     least = limits().exo_min_coordinates
-    if facts.n < least:
+    if facts.n < least and _screen(facts) is None:
         return (f"coordinates {facts.n} < Limits.exo_min_coordinates = {least}: exact partial "
                 "fractions serve it with a closed form")
     return None
 
 
 def _mp_refusal(facts: SceneFacts, request: Request) -> str | None:
-    return _size(facts, "exact_fallback_max_coordinates", "coordinates")
+    return _size(facts, "exact_fallback_max_coordinates", "coordinates") or _screen(facts)
 
 
 # ----------------------------------------------------------------------------- costs

@@ -17,6 +17,7 @@ from operator import attrgetter
 
 import numpy as np
 
+from ..exact.screening import exact_refusal
 from ..limits import limits
 from ..model.periodic import Periodic
 from ..model.scene import Scene
@@ -98,7 +99,8 @@ class SceneFacts:
         the work per time of a formula force).
     quotes : tuple of Quote
         The answers of engine modules that decide from the scene itself (the refined
-        engine: its products depend on the sparsity of K).
+        engine: its products depend on the sparsity of K; the exact route's screen of a
+        small forced scene, see :func:`scene_facts`).
     """
 
     n: int
@@ -182,7 +184,41 @@ def scene_facts(scene: Scene, method: str = "auto") -> SceneFacts:
                                          mean_decay=decay)
     if method == "refined" and facts.quote("refined") is None and facts.classical:
         facts = table["facts"] = replace(facts, quotes=facts.quotes + (_refined_quote(scene),))
+    if method not in _EXACT_METHODS and _screened(facts):
+        facts = _with_exact_quote(scene, facts, table)
     return facts
+
+
+#: Methods whose engine is the exact route: it screens the scene itself when built (and
+#: raises its own InversionError), so their facts do not quote its screen.
+_EXACT_METHODS = frozenset({"exact", "mp"})
+
+
+def _screened(facts: SceneFacts) -> bool:
+    """Whether the planner asks the exact route's screen up front: a forced numeric scene
+    with a first-order form below Limits.exo_min_coordinates, where the exact route is
+    preferred (closed forms) and the exo engine serves only where exact refuses."""
+    return (facts.forced and not facts.symbolic and not facts.sampled and facts.first_order
+            and facts.n < limits().exo_min_coordinates)
+
+
+def _with_exact_quote(scene: Scene, facts: SceneFacts, table: dict) -> SceneFacts:
+    """``facts`` with the exact route's screen as a quote
+    (:func:`~laplace_springs.exact.screening.exact_refusal`: milliseconds, kept with the
+    scene and the limits in force; the exact engine's build reads the same result): the
+    planner declines exact and mp with its refusal, and the exo engine serves instead. Its
+    costs are not quoted (the exact engine's own model stays)."""
+    current = limits()
+    found = table.get("exact_quote")
+    if found is None or found[0] is not current:
+        quote = Quote("exact", exact_refusal(scene), 0.0, 0.0)
+        found = table["exact_quote"] = (current, quote, None, None)
+    if found[2] is not facts:  # one quoted object per base facts (plans are memoised by them)
+        found = table["exact_quote"] = (current, found[1], facts,
+                                        replace(facts, quotes=facts.quotes + (found[1],)))
+    quoted = found[3]
+    assert isinstance(quoted, SceneFacts)
+    return quoted
 
 
 def _facts(scene: Scene) -> SceneFacts:

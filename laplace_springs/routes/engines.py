@@ -21,7 +21,7 @@ import numpy as np
 from ..exact.assembly import exact_motion
 from ..exact.screening import exact_refusal
 from ..limits import limits
-from ..model.errors import FloatRangeError
+from ..model.errors import FloatRangeError, LimitError
 from ..numeric.certified import certified_poles
 from ..numeric.chebyshev import chebyshev_motion
 from ..numeric.classical import classical_motion
@@ -107,8 +107,21 @@ _FLOAT_SOLUTIONS: dict[str, Callable[[Any, str | None, float], Solution | Refusa
         scene, refined_motion(scene), reason=reason, target=target),
     "tiny": lambda scene, reason, target: ModalSolution(
         scene, tiny_motion(scene), reason=reason, target=target),
-    "exo": lambda scene, reason, target: exo.solve_exo(scene, _solver(), target=target),
+    "exo": lambda scene, reason, target: _exo(scene, target),
 }
+
+
+def _exo(scene: Any, target: float) -> Solution | Refusal:
+    """The exo engine, or its refusal where no engine serves one of its pieces' unforced
+    scenes (that LimitError names the limits; the plan's next engine may serve)."""
+    try:
+        return exo.solve_exo(scene, _solver(), target=target)
+    except FloatRangeError:
+        raise
+    except LimitError as exc:
+        text = str(exc)
+        limit = text.split("Limits.", 1)[1].split(maxsplit=1)[0].strip(".,;)") if "Limits." in text else None
+        return Refusal("exo", f"a piece's unforced scene is not served: {text}", limit)
 
 
 def _solver() -> Callable[..., Solution]:

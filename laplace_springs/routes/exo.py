@@ -39,7 +39,7 @@ import sympy as sp
 
 from ..kernels.precision import workdps
 from ..limits import limits
-from ..model.errors import LimitError, SceneError
+from ..model.errors import FloatRangeError, LimitError, SceneError
 from ..model.forcing import input_transform
 from ..model.scene import Scene
 from ..model.symbols import TIME
@@ -253,7 +253,12 @@ def _solve_piece(scene: Scene, piece: _Piece, inputs: list[_Input],
                         solver, target)
     if split is not None:
         return split
-    return solver(_augmented(scene, inputs, start, _state_scale(scene)), target=target)
+    try:
+        augmented = _augmented(scene, inputs, start, _state_scale(scene))
+    except SceneError as exc:  # its entries are the scene's and c/scale: a scale float64 misses
+        raise FloatRangeError(f"the scene joined to its inputs' exosystems has an entry beyond "
+                              f"float64's range: {exc}") from None
+    return solver(augmented, target=target)
 
 
 class ExoSolution(Solution):

@@ -15,8 +15,9 @@ The bound of a value is the free part's bound, plus |Π S^r|·(the bound of w), 
 rounding of Π S^r to float64 and of the products and sums (u per term).
 
 Where the split does not apply (irrational entries, an exosystem of degree above 2,
-resonance: the Sylvester equation is singular), :func:`split_piece` returns None and the
-caller joins the exosystems to the scene instead.
+resonance: the Sylvester equation is singular, or x0 − Π w(0) has numbers beyond
+Limits.max_digits), :func:`split_piece` returns None and the caller joins the exosystems
+to the scene instead.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from flint import fmpq, fmpq_mat
 
 from ..kernels.precision import workdps
 from ..limits import limits
+from ..model.errors import SceneError
 from ..model.scene import Scene
 from ..numeric.first_order import rational_entries
 from ..solution import Solution
@@ -168,8 +170,15 @@ def split_piece(scene: Scene, blocks: list[tuple[int, tuple[Any, ...], tuple[Any
         v0 = [v0[i] - start_v[i, 0] for i in range(n)]
         weights = [Pi, Pi * S, Pi * S * S]
         solved.append((_exo_scene(a), weights))
-    free = Scene.from_matrices(M=scene.M, C=scene.C, K=scene.K, x0=[_rational(v) for v in x0],
-                               v0=[_rational(v) for v in v0], title=scene.title)
+    try:
+        free = Scene.from_matrices(M=scene.M, C=scene.C, K=scene.K,
+                                   x0=[_rational(v) for v in x0],
+                                   v0=[_rational(v) for v in v0], title=scene.title)
+    except SceneError:
+        # the free part's data x0 − Π w(0) is exact, and Π's entries are rational functions
+        # of the scene's: masses and a dashpot of 1e-300 give numbers of 1,200 digits,
+        # beyond Limits.max_digits; the caller joins the exosystems to the scene instead
+        return None
     # the free part cancels the particular one where the motion starts from rest: on
     # small scenes its engine is chosen for a tenth of the target (times whose bound
     # misses the target itself escalate); on larger ones that would choose the certified
