@@ -66,6 +66,17 @@ class Refusal:
     def __str__(self) -> str:
         return f"{self.engine}: {self.reason}"
 
+    @classmethod
+    def from_text(cls, engine: str, reason: str) -> Refusal:
+        """The refusal of ``reason``, its limit the first ``Limits.<name>`` the text names.
+
+        >>> Refusal.from_text("tiny", "coordinates 5 > Limits.tiny_max_coordinates = 4").limit
+        'tiny_max_coordinates'
+        """
+        if "Limits." not in reason:
+            return cls(engine, reason)
+        return cls(engine, reason, reason.split("Limits.", 1)[1].split(maxsplit=1)[0].strip(".,;)"))
+
 
 @dataclass(frozen=True)
 class Engine:
@@ -110,8 +121,7 @@ class Engine:
         why = self.refusal(facts, request)
         if why is None:
             return None
-        limit = why.split("Limits.", 1)[1].split()[0].strip(".,;)") if "Limits." in why else None
-        return Refusal(self.name, why, limit)
+        return Refusal.from_text(self.name, why)
 
 
 # ----------------------------------------------------------------------------- refusals

@@ -208,16 +208,13 @@ def _with_exact_quote(scene: Scene, facts: SceneFacts, table: dict) -> SceneFact
     scene and the limits in force; the exact engine's build reads the same result): the
     planner declines exact and mp with its refusal, and the exo engine serves instead. Its
     costs are not quoted (the exact engine's own model stays)."""
-    current = limits()
+    quote = Quote("exact", exact_refusal(scene), 0.0, 0.0)  # kept per scene and limits
     found = table.get("exact_quote")
-    if found is None or found[0] is not current:
-        quote = Quote("exact", exact_refusal(scene), 0.0, 0.0)
-        found = table["exact_quote"] = (current, quote, None, None)
-    if found[2] is not facts:  # one quoted object per base facts (plans are memoised by them)
-        found = table["exact_quote"] = (current, found[1], facts,
-                                        replace(facts, quotes=facts.quotes + (found[1],)))
-    quoted = found[3]
-    assert isinstance(quoted, SceneFacts)
+    # one quoted object per base facts and screen (plans are memoised by the facts)
+    if found is None or found[0] is not facts or found[1] != quote:
+        found = table["exact_quote"] = (facts, quote,
+                                        replace(facts, quotes=facts.quotes + (quote,)))
+    quoted: SceneFacts = found[2]
     return quoted
 
 

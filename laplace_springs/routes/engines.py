@@ -119,9 +119,7 @@ def _exo(scene: Any, target: float) -> Solution | Refusal:
     except FloatRangeError:
         raise
     except LimitError as exc:
-        text = str(exc)
-        limit = text.split("Limits.", 1)[1].split(maxsplit=1)[0].strip(".,;)") if "Limits." in text else None
-        return Refusal("exo", f"a piece's unforced scene is not served: {text}", limit)
+        return Refusal.from_text("exo", f"a piece's unforced scene is not served: {exc}")
 
 
 def _solver() -> Callable[..., Solution]:
