@@ -135,7 +135,7 @@ def _planned_solution(scene: Scene, facts: Any, method: str, target: float) -> S
         if not chosen.chain:
             if probed:  # every engine misses the target at the probe: the tightest serves
                 _, best, chosen = min(probed, key=lambda entry: entry[0])
-                return _finish(best, chosen, method, refusals)
+                return _finish(best, chosen, method, refusals, set(BUILDERS) - available)
             raise _no_engine(chosen, method, refusals, facts, scene, target)
         name = chosen.chain[0]
         solution = _build(name, scene, chosen, target, method)
@@ -147,13 +147,26 @@ def _planned_solution(scene: Scene, facts: Any, method: str, target: float) -> S
                                     "the target at Limits.probe_times"))
             probed.append((worst, solution, chosen))
         else:
-            return _finish(solution, chosen, method, refusals)
-        available.discard(name)
+            return _finish(solution, chosen, method, refusals, set(BUILDERS) - available)
+        available -= _hosted_by(name) if isinstance(solution, Refusal) else {name}
 
 
-def _finish(solution: Solution, chosen: Plan, method: str, refusals: list[Refusal]) -> Solution:
+def _hosted_by(name: str) -> set[str]:
+    """``name`` and the engines its solution hosts (the arbitrary-precision escalations:
+    "mp" of "exact", "ball" of "certified"): when it cannot be built, neither can they.
+
+    >>> sorted(_hosted_by("exact"))
+    ['exact', 'mp']
+    """
+    return {name, *(family for family, members in FAMILIES.items() if members == (name,))}
+
+
+def _finish(solution: Solution, chosen: Plan, method: str, refusals: list[Refusal],
+            excluded: set[str]) -> Solution:
+    """``solution`` with the request, the engines its plans leave out (those that refused
+    or missed the target while solving) and its reason."""
     solution.requested = method
-    solution.excluded = frozenset(r.engine for r in refusals if r.engine != solution.method)
+    solution.excluded = frozenset(excluded - {solution.method})
     others = [r for r in refusals if r.engine != solution.method]
     notes = _dropped_initial_data(solution)
     solution.reason = chosen.reason + "".join(f"; {r}" for r in others) + _warnings(solution) \

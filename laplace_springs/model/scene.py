@@ -19,6 +19,7 @@ proportional to their nonzero entries, so a 10,000-mass chain is built in second
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import heapq
 import importlib
@@ -550,6 +551,18 @@ def _pencil_at(value: sympy.Rational, M: Any, C: Any, K: Any) -> Entries:
     return {key: sympy.Add(*parts) for key, parts in terms.items()}
 
 
+def _determinant(matrix: sympy.Matrix) -> Any:
+    """det(matrix) of numbers in SymPy's polynomial domains: entries with algebraic numbers
+    (sqrt(2)) in their number field, where the expression domain EX would simplify every
+    elimination step (a 4 x 4 pencil with sqrt(2): 0.13 s in EX, 4 ms in QQ<sqrt(2)>)."""
+    found = DomainMatrix.from_Matrix(matrix)
+    if found.domain.is_EX:
+        with contextlib.suppress(sympy.PolynomialError, sympy.CoercionFailed,
+                                 NotImplementedError):
+            found = DomainMatrix.from_Matrix(matrix, extension=True)
+    return found.det()
+
+
 def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.MatrixBase) -> bool:
     """Whether det(λ²M + λC + K) is not identically zero.
 
@@ -568,7 +581,7 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
                 return True
             continue
         pencil = (value**2 * M + value * C + K).xreplace(generic)
-        if DomainMatrix.from_Matrix(sympy.Matrix(pencil)).det() != 0:
+        if _determinant(sympy.Matrix(pencil)) != 0:
             return True
         if symbols:
             break

@@ -103,6 +103,12 @@ class Engine:
     precision : float
         The relative bound it typically reaches (a time that escalates goes only to
         engines that reach further).
+    defers_to : str, optional
+        An engine preferred where both serve: while it serves the request (and this
+        engine is not asked for by name), this one declines with ``deferral``'s sentence.
+    deferral : callable
+        ``(facts, request) -> str | None``: why the engine defers to ``defers_to`` for
+        this request, or None (it serves beside it).
     """
 
     name: str
@@ -113,6 +119,8 @@ class Engine:
     horizon: Callable[[SceneFacts, Request], float] = lambda facts, request: math.inf
     expectation: Callable[[SceneFacts, Request], str | None] = lambda facts, request: None
     precision: float = 1e-14
+    defers_to: str | None = None
+    deferral: Callable[[SceneFacts, Request], str | None] = lambda facts, request: None
 
     def refuses(self, facts: SceneFacts, request: Request) -> Refusal | None:
         """A :class:`Refusal`, or None when the engine can serve the request."""
@@ -122,6 +130,12 @@ class Engine:
         if why is None:
             return None
         return Refusal.from_text(self.name, why)
+
+    def defers(self, facts: SceneFacts, request: Request) -> Refusal | None:
+        """Its :class:`Refusal` in favour of ``defers_to`` (the caller knows that engine
+        serves the request), or None."""
+        why = None if self.defers_to is None else self.deferral(facts, request)
+        return None if why is None else Refusal.from_text(self.name, why)
 
 
 # ----------------------------------------------------------------------------- refusals
@@ -258,10 +272,7 @@ def _exact_refusal(facts: SceneFacts, request: Request) -> str | None:
 
 
 def _exo_refusal(facts: SceneFacts, request: Request) -> str | None:
-    """Formula and periodic forces on numeric scenes from Limits.exo_min_coordinates on;
-    below, exact partial fractions give closed forms in seconds, and the exo engine serves
-    only the scenes the exact route refuses (its screen, quoted by the facts: entries of
-    very different sizes whose roots SymPy would number only after too much work)."""
+    """Formula and periodic forces on numeric scenes with a first-order form."""
     if not facts.forced:
         return "the scene is not forced (the free-motion engines serve it)"
     if facts.symbolic:
@@ -270,8 +281,16 @@ def _exo_refusal(facts: SceneFacts, request: Request) -> str | None:
         return "sampled forces take the sampled route"
     if not facts.first_order:
         return "the scene has no first-order form (massless nodes not held by dashpots)"
+    return None
+
+
+def _exo_deferral(facts: SceneFacts, request: Request) -> str | None:
+    """Below Limits.exo_min_coordinates exact partial fractions give closed forms in
+    seconds: the exo engine serves only the scenes the exact route refuses (its screen,
+    quoted by the facts, or its build: entries of very different sizes, a factor with
+    irrational coefficients)."""
     least = limits().exo_min_coordinates
-    if facts.n < least and _screen(facts) is None:
+    if facts.n < least:
         return (f"coordinates {facts.n} < Limits.exo_min_coordinates = {least}: exact partial "
                 "fractions serve it with a closed form")
     return None
@@ -443,7 +462,8 @@ ENGINES: tuple[Engine, ...] = (
     Engine("exact", 0, "exact partial fractions, float64 pole sums", _exact_refusal,
            _exact_cost, precision=2e-15),
     Engine("exo", 0, "the inputs' own dynamics joined to the scene, solved by the free-motion "
-           "engines", _exo_refusal, _exo_cost, precision=1e-13),
+           "engines", _exo_refusal, _exo_cost, precision=1e-13, defers_to="exact",
+           deferral=_exo_deferral),
     Engine("refined", 1, "eigenpairs refined in double-double, phases ωt in double-double",
            _refined_refusal, _refined_cost, precision=1e-15),
     Engine("ball", 2, "certified poles evaluated in ball arithmetic", _certified_refusal,

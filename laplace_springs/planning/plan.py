@@ -216,16 +216,7 @@ _MEMO_SIZE = 512
 def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str],
           names: frozenset[str]) -> Plan:
     facts = facts.knowing(built)
-    serving: list[Engine] = []
-    refusals: list[Refusal] = []
-    for entry in ENGINES:
-        if entry.name not in names:
-            continue
-        refusal = entry.refuses(facts, request)
-        if refusal is None:
-            serving.append(entry)
-        else:
-            refusals.append(refusal)
+    serving, refusals = _serving(facts, request, method, names, built)
     costs = {e.name: _cost(e, facts, request, built) for e in serving}
     horizons = {e.name: e.horizon(facts, request) for e in serving}
     # a named engine or family restricts the float64 primary; digits come from tier 2
@@ -239,6 +230,27 @@ def _plan(facts: SceneFacts, request: Request, method: str, built: frozenset[str
     retimed = _Retimed(facts, built, chain, head) if len(chain) > head + 1 else None
     return Plan(request, method, chain, horizons, costs, tuple(refusals),
                 _reason(chain, costs, method, facts, request, refusals), retimed)
+
+
+def _serving(facts: SceneFacts, request: Request, method: str, names: frozenset[str],
+             built: frozenset[str]) -> tuple[list[Engine], list[Refusal]]:
+    """The engines of ``names`` that serve the request, and the refusals of the others. An
+    engine that defers to another (``Engine.defers_to``) declines only where that one
+    serves, and never when it is asked for by name or its data is built."""
+    serving: list[Engine] = []
+    refusals: list[Refusal] = []
+    for entry in ENGINES:
+        if entry.name in names:
+            refusal = entry.refuses(facts, request)
+            (serving.append(entry) if refusal is None else refusals.append(refusal))
+    taken = {e.name for e in serving}
+    deferring = [e for e in serving
+                 if e.defers_to in taken and e.name != method and e.name not in built]
+    for entry in deferring:
+        if (refusal := entry.defers(facts, request)) is not None:
+            serving.remove(entry)
+            refusals.append(refusal)
+    return serving, refusals
 
 
 def _default_order(facts: SceneFacts, built: frozenset[str]

@@ -21,7 +21,7 @@ import numpy as np
 from ..exact.assembly import exact_motion
 from ..exact.screening import exact_refusal
 from ..limits import limits
-from ..model.errors import FloatRangeError, LimitError
+from ..model.errors import FloatRangeError, InversionError, LimitError
 from ..numeric.certified import certified_poles
 from ..numeric.chebyshev import chebyshev_motion
 from ..numeric.classical import classical_motion
@@ -55,15 +55,19 @@ def _exact_host(solution: Solution) -> ExactSolution | Refusal:
     found = solution.__dict__.get("_exact_host")
     if found is None:
         why = exact_refusal(solution.scene)
-        if why is not None:
-            found = Refusal("exact", why)
-        else:
-            form = solution._exact_form
-            found = form if isinstance(form, ExactSolution) else ExactSolution(
-                exact_motion(solution.scene), reason="exact terms for the plan",
-                target=solution.target)
+        try:
+            found = Refusal("exact", why) if why is not None else _exact_form(solution)
+        except InversionError as exc:  # found while building (irrational coefficients)
+            found = Refusal("exact", str(exc), "max_exact_factor_degree")
         solution.__dict__["_exact_host"] = found
     return found
+
+
+def _exact_form(solution: Solution) -> ExactSolution:
+    """The exact terms of ``solution``'s scene (its own exact form where it keeps one)."""
+    form = solution._exact_form
+    return form if isinstance(form, ExactSolution) else ExactSolution(
+        exact_motion(solution.scene), reason="exact terms for the plan", target=solution.target)
 
 
 def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
