@@ -26,7 +26,9 @@ TARGET = 1e-13
 #: (m, k, c) of forced pairs whose exact route refuses (from tests/test_attack_scales.py's
 #: HANGING list) and that the exo engine serves.
 SERVED = [("1", "1", "1e-300"), ("1e-100", "1", "1e-300"), ("1e-200", "1", "1e300"),
-          ("1e-100", "1e-300", "1e300")]
+          ("1e-100", "1e-300", "1e300"),
+          # the exosystem's state scaled by |f|/max K_ii (not by |f|·M/K: 2^-998 there)
+          ("1e-300", "1", "1e-300"), ("1e-300", "1", "1"), ("1e-300", "1", "1e300")]
 
 
 def pair(m: str, k: str, c: str, forcing: str = "cos(t)") -> ls.Scene:
@@ -106,11 +108,11 @@ def test_a_forced_pair_the_exact_route_refuses_is_served_by_exo(entries):
 
 def test_masses_of_1e_300_are_refused_by_limits_not_a_digits_error():
     """The exo engine's split built x0 − Π w(0) of 1,200 digits (beyond Limits.max_digits)
-    and raised that SceneError out of ``solve``; it now falls back to the joined scene, whose
-    entry of 2.7e300 float64 cannot hold: a refusal, and the planner's LimitError names the
-    limits of both engines."""
+    and raised that SceneError out of ``solve``; it now falls back to the joined scene. With
+    springs of 1e300 on them that scene has an entry of 2e300, which float64 cannot hold: a
+    refusal, and the planner's LimitError names the limits of both engines."""
     with pytest.raises(ls.LimitError) as raised:
-        ls.solve(pair("1e-300", "1", "1e-300"))
+        ls.solve(pair("1e-300", "1e300", "1e-300"))
     text = str(raised.value)
     assert "Limits.max_exact_isolation" in text and "exo: cannot hold the scene" in text
     assert "Limits.max_digits" not in text

@@ -183,10 +183,9 @@ def _force_size(scene: Scene) -> float:
 
 def _state_scale(scene: Scene) -> sp.Expr:
     """A power of two near |f|/k, the static displacement of the forces (k the largest
-    K_ii/M_ii), for the exosystems' initial state."""
-    M, _, K, _, _ = scene_arrays(scene)
-    mass = np.abs(np.diag(M))
-    stiff = float(np.max(np.abs(np.diag(K)) / np.where(mass > 0, mass, np.inf), initial=0.0))
+    |K_ii|), for the exosystems' initial state."""
+    _, _, K, _, _ = scene_arrays(scene)
+    stiff = float(np.max(np.abs(np.diag(K)), initial=0.0))
     size = _force_size(scene) / stiff if stiff > 0 else 1.0
     if not (0 < size < np.inf):
         return sp.Integer(1)
@@ -299,7 +298,8 @@ class ExoSolution(Solution):
         force = _force_size(self.scene)
         rho = self._spectral_radius
         inverse = float(np.max(np.abs(np.linalg.pinv(M)))) if M.size else 0.0
-        return super()._base_floor + (force * inverse / rho**2 if rho > 1e-150 else 0.0)
+        # in two quotients: ρ² and |f|·max|M⁻¹| alone may overflow (m = 1e-300, c = 1)
+        return super()._base_floor + ((force / rho) * (inverse / rho) if rho > 1e-150 else 0.0)
 
     def _own_engines(self) -> dict[str, Evaluator]:
         return {self.method: self._sum}
