@@ -163,14 +163,11 @@ delta = ls.resolvent(free).determinant.as_expr().subs(ls.lam, ls.s)
     }, timeout=120)
     smallest = "M[0,0] = 1e-300" if m == "1e-300" else "C[0,0] = 1e-300"
     # "auto": the exo engine serves the forced pair where the exact route refuses and its
-    # scenes hold in float64 (tests/test_attack_forced_small.py checks the values); with
-    # masses of 1e-300 no engine holds it (the joined scene has an entry of 2.7e300)
+    # scenes hold in float64 (tests/test_attack_forced_small.py checks the values)
     expected = {"exact": "InversionError", "inverse": "InversionError",
                 "modes": "LimitError", "definitions": "InversionError"}
-    if m == "1e-300":
-        expected["auto"] = "LimitError"
-    else:
-        assert found["auto"].ok and found["auto"].text == "'certified+exo'", found["auto"]
+    served = "'exact+exo'" if m == "1e-300" else "'certified+exo'"
+    assert found["auto"].ok and found["auto"].text == served, found["auto"]
     for name, kind in expected.items():
         outcome = found[name]
         assert outcome.kind == kind, (name, outcome)
