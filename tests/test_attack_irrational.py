@@ -120,3 +120,30 @@ def test_free_irrational_scene_escalates_without_the_exact_routes_error():
     expected = reference(M, PAIR_C, PAIR_K, [1, 0], [0, 0], TIMES)
     assert np.all(np.abs(values - expected) <= bounds)
     assert np.max(bounds) < 1e-12
+
+
+def test_one_transcendental_number_keeps_the_exact_route():
+    """m = π, forcing e^{-t}: Δ·(λ + 1) is factored with π as an unknown over ℚ (EX left it
+    whole and the exact route refused a cubic with irrational coefficients)."""
+    M, C, K = [[sp.pi]], [[1]], [[1]]
+    sol = ls.solve(ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1], v0=[0], forcing=["exp(-t)"]))
+    assert sol.method == "exact" and sol.x[0].has(sp.pi)
+    values, bounds = sol.evaluate(TIMES, return_error=True)
+    expected = reference(M, C, K, [1], [lambda t: mpmath.exp(-t)], TIMES)
+    assert np.all(np.abs(values - expected) <= bounds)
+
+
+def test_mixed_irrational_numbers_go_to_the_numeric_engines_at_once():
+    """√5 − 1, e and π/3 on one forced mass: the exact terms took 20 s and a coefficient of
+    180,000 characters (before that, the planner's LimitError); the screen declines them
+    and the exo engine serves."""
+    M, C, K = [[sp.sqrt(5) - 1]], [[sp.E]], [[sp.pi / 3]]
+    scene = ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1], v0=[0], forcing=["exp(-t)"])
+    start = time.perf_counter()
+    sol = ls.solve(scene)
+    values, bounds = sol.evaluate(TIMES, return_error=True)
+    took = time.perf_counter() - start
+    assert "exo" in sol.method and "Limits.max_exact_irrationals" in sol.reason
+    assert took < 10
+    expected = reference(M, C, K, [1], [lambda t: mpmath.exp(-t)], TIMES)
+    assert np.all(np.abs(values - expected) <= bounds)

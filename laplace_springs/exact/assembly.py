@@ -555,7 +555,8 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
         numerators = [N + D * free for N, free in zip(numerators, R.numerators)]
     denominator = R.determinant * D
     rows, flags, impulses = [], [], []
-    for pf in decompose(numerators, denominator, closed_form=True, root_sums=True):
+    for pf in decompose(numerators, denominator, closed_form=True, root_sums=True,
+                        parts=(R.determinant, D)):
         pairs = [(term, _divides(group.factor, D))
                  for group in pf.groups for term in group_terms(group)]
         rows.append(tuple(term for term, _ in pairs))

@@ -52,7 +52,7 @@ import sympy as sp
 from ..kernels.precision import workdps
 from ..limits import limits
 from ..model.errors import InternalError, InversionError, SceneError
-from ..model.numbers import declare_parameters, parse_expression, shown
+from ..model.numbers import TRANSCENDENTAL, declare_parameters, parse_expression, shown
 from ..model.symbols import TIME
 from .domains import field_polys
 from .isolation import isolation_size
@@ -426,7 +426,8 @@ def _root_sum_group(q: sp.Poly, m: int, N: sp.Poly, D: sp.Poly) -> RootSumGroup 
 
 
 def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
-              closed_form: bool = False, root_sums: bool = False) -> list[PartialFractions]:
+              closed_form: bool = False, root_sums: bool = False,
+              parts: tuple[sp.Poly, ...] = ()) -> list[PartialFractions]:
     """Partial fractions of several numerators over one shared denominator.
 
     The denominator is factored once and the inverse series of each factor's cofactor is
@@ -447,6 +448,10 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
         With ``closed_form``: a factor of :func:`is_root_sum_factor` (symbolic
         coefficients, degree ≥ 3, no closed-form roots) is not refused but gives a
         :class:`RootSumGroup` per numerator, without residues (milliseconds).
+    parts : tuple of sympy.Poly, optional
+        Polynomials whose product is ``denominator`` (Δ(λ) and the forces' own
+        denominator): with irrational coefficients they are factored one by one where
+        they share no root.
 
     Returns
     -------
@@ -466,7 +471,7 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
     denominator = denominator.set_domain(own_field)
     lc = denominator.LC()
     # over EX (irrational entries) SymPy's factor_list leaves a square whole: exact_factors
-    factors = [(f.set_domain(own_field).monic(), m) for f, m in exact_factors(denominator)]
+    factors = [(f.set_domain(own_field).monic(), m) for f, m in _factors(denominator, parts)]
     summed = root_sums and closed_form
     cancelled = check_closed_form(factors, numerators, root_sums=summed) if closed_form else set()
     if field != own_field:
@@ -499,6 +504,16 @@ def decompose(numerators: list[sp.Poly], denominator: sp.Poly, *,
             for (quotient, _), groups in zip(quotients, groups_per)]
 
 
+def _factors(denominator: sp.Poly, parts: tuple[sp.Poly, ...]) -> list[tuple[sp.Poly, int]]:
+    """:func:`exact_factors` of ``denominator``, the product of ``parts``: over EX each
+    part on its own where no two share a root (Δ(λ) of irrational entries, squarefree,
+    and a rational (λ² + 1)·λ²: no gcds over EX)."""
+    if not (denominator.domain.is_EX and len(parts) > 1 and _coprime(list(parts))):
+        return exact_factors(denominator)
+    return [found for part in parts if part.degree() > 0
+            for found in exact_factors(part.set_domain(sp.EX))]
+
+
 def exact_factors(poly: sp.Poly) -> list[tuple[sp.Poly, int]]:
     """The factors of ``poly`` with their multiplicities (``factor_list()[1]``), where SymPy's
     own would hide a square: numbers taken as unknowns (ZZ[pi, sqrt(pi)]) are read in EX,
@@ -512,10 +527,11 @@ def exact_factors(poly: sp.Poly) -> list[tuple[sp.Poly, int]]:
         poly = poly.set_domain(sp.EX)
     if not poly.domain.is_EX:
         return list(poly.factor_list()[1])
-    field = _in_number_field(poly)  # EX does not factor (√2λ² + λ + 2)(λ² + 1)
-    factors = poly.factor_list()[1] if field is None else [
-        (_in_ex(f, poly.gen), m) for f, m in field.factor_list()[1]]
-    return _squarefree(factors)
+    ring = _in_exact_ring(poly)  # EX does not factor (√2λ² + λ + 2)(λ² + 1)
+    if ring is None or (ring[1] and ring[0].domain.is_AlgebraicField):
+        # SymPy factors over a number field with unknowns π, e by norms: minutes
+        return _squarefree(poly.factor_list()[1])
+    return _squarefree([(_in_ex(f, poly.gen, ring[1]), m) for f, m in ring[0].factor_list()[1]])
 
 
 def _numeric_generators(domain: Any) -> bool:
@@ -551,33 +567,49 @@ def _squarefree(factors: list[tuple[sp.Poly, int]]) -> list[tuple[sp.Poly, int]]
 
 
 def _squarefree_parts(factor: sp.Poly) -> list[tuple[sp.Poly, int]]:
-    """``factor.sqf_list()[1]``, taken in the number field of its coefficients where they
-    are algebraic (√2 + ∛3: 11 ms there, 5 s of simplification in EX); in EX otherwise."""
-    field = _in_number_field(factor)
-    if field is None:
+    """``factor.sqf_list()[1]``, taken over the exact ring of its coefficients where they
+    are algebraic numbers and π, e (:func:`_in_exact_ring`: √2 + ∛3 in 11 ms, where EX
+    simplified for 5 s); in EX otherwise, unless its roots are numerically separated."""
+    ring = _in_exact_ring(factor)
+    if ring is None:
         return [(factor, 1)] if _separated_roots(factor) else list(factor.sqf_list()[1])
-    return [(_in_ex(part, factor.gen), power) for part, power in field.sqf_list()[1]]
+    exact, back = ring
+    return [(_in_ex(part, factor.gen, back), power) for part, power in exact.sqf_list()[1]]
 
 
-def _in_number_field(poly: sp.Poly) -> sp.Poly | None:
-    """``poly`` (over EX) over the number field of its coefficients (QQ<√2>), where they
-    are algebraic numbers; else None."""
+def _in_exact_ring(poly: sp.Poly) -> tuple[sp.Poly, dict[sp.Dummy, sp.Expr]] | None:
+    """``poly`` (over EX) with its algebraic numbers in their number field (QQ<√2>) and
+    π, e, γ and Catalan's constant as unknowns over it, and the map back from those
+    unknowns; None where other numbers appear (√π, e², log 2: their relations to the rest
+    would be unseen).
+
+    >>> lam = sp.Symbol("lambda")
+    >>> exact, back = _in_exact_ring(sp.Poly(lam**2 + sp.sqrt(2)*sp.pi*lam, lam, domain="EX"))
+    >>> exact.domain, sorted(map(str, back.values()))
+    (QQ<sqrt(2)>, ['pi'])
+    >>> _in_exact_ring(sp.Poly(lam + sp.sqrt(sp.pi), lam, domain="EX")) is None
+    True
+    """
+    expr = poly.as_expr()
+    names = {c: sp.Dummy(str(c)) for c in TRANSCENDENTAL if expr.has(c)}
     try:
-        field = sp.Poly(poly.as_expr(), poly.gen, extension=True)
+        exact = sp.Poly(expr.xreplace(names), poly.gen, *names.values(), extension=True)
     except (sp.PolynomialError, sp.CoercionFailed, NotImplementedError):
         return None
-    return field if field.domain.is_AlgebraicField else None
+    domain = exact.domain
+    if not (domain.is_ZZ or domain.is_QQ or domain.is_AlgebraicField):
+        return None
+    return exact, {v: k for k, v in names.items()}
 
 
-def _in_ex(poly: sp.Poly, gen: sp.Symbol) -> sp.Poly:
-    return sp.Poly(poly.as_expr(), gen, domain=sp.EX)
+def _in_ex(poly: sp.Poly, gen: sp.Symbol, back: dict[sp.Dummy, sp.Expr]) -> sp.Poly:
+    return sp.Poly(poly.as_expr().xreplace(back), gen, domain=sp.EX)
 
 
 def _separated_roots(factor: sp.Poly, digits: int = 60) -> bool:
-    """Whether the roots of ``factor`` (numeric coefficients) are distinct: numbered at
-    ``digits`` digits, every two apart by more than 10^(-digits/3) of their size and by
-    more than a million times mpmath's error estimate (a double root agrees to about
-    digits/2). Such a factor is squarefree; one with close roots is left to ``sqf_list``.
+    """Whether the roots of ``factor`` (numeric coefficients) are distinct
+    (:func:`_apart`). Such a factor is squarefree; one with close roots is left to
+    ``sqf_list``.
 
     >>> lam = sp.Symbol("lambda")
     >>> _separated_roots(sp.Poly(lam**3 + sp.pi*lam + 1, lam, domain="EX"))
@@ -587,17 +619,45 @@ def _separated_roots(factor: sp.Poly, digits: int = 60) -> bool:
     """
     if factor.degree() < 2:
         return True
-    if factor.free_symbols - {factor.gen}:
+    found = _numeric_roots(factor, digits)
+    return found is not None and _apart([(a, b) for i, a in enumerate(found[0])
+                                         for b in found[0][i + 1:]], found[1], digits)
+
+
+def _coprime(parts: list[sp.Poly], digits: int = 60) -> bool:
+    """Whether no root of one of ``parts`` is a root of another (:func:`_apart`)."""
+    found = [_numeric_roots(p, digits) if p.degree() > 0 else ([], 0) for p in parts]
+    if any(f is None for f in found):
         return False
+    pairs = [(a, b) for i, (roots, _) in enumerate(found) for other, _ in found[i + 1:]
+             for a in roots for b in other]
+    return _apart(pairs, max(error for _, error in found), digits)
+
+
+def _numeric_roots(poly: sp.Poly, digits: int) -> tuple[list, Any] | None:
+    """The roots of ``poly`` (numeric coefficients) at ``digits`` digits and mpmath's error
+    estimate, or None where they cannot be numbered."""
+    if poly.free_symbols - {poly.gen}:
+        return None
     with workdps(digits):
         try:
-            coeffs = [mpmath.mpmathify(sp.N(c, digits + 10)) for c in factor.all_coeffs()]
+            coeffs = [mpmath.mpmathify(sp.N(c, digits + 10)) for c in poly.all_coeffs()]
             roots, error = mpmath.polyroots(coeffs, maxsteps=200, extraprec=2 * digits,
                                             error=True)
         except (TypeError, ValueError, mpmath.libmp.NoConvergence):
-            return False
-        size = max(1, *(abs(r) for r in roots))
-        gap = min(abs(a - b) for i, a in enumerate(roots) for b in roots[i + 1:])
+            return None
+    return list(roots), error
+
+
+def _apart(pairs: list[tuple[Any, Any]], error: Any, digits: int) -> bool:
+    """Whether every two roots of ``pairs`` are apart by more than 10^(-digits/3) of their
+    size and by more than a million times the roots' error (a double root agrees to about
+    digits/2 digits)."""
+    if not pairs:
+        return True
+    with workdps(digits):
+        size = max(1, *(max(abs(a), abs(b)) for a, b in pairs))
+        gap = min(abs(a - b) for a, b in pairs)
         return bool(gap > max(size * mpmath.mpf(10) ** (-digits // 3), 1e6 * error))
 
 

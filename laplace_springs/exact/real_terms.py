@@ -116,10 +116,19 @@ def _primitive(poly: sp.Poly) -> sp.Poly:
 
 
 def _clean(expr: sp.Expr) -> sp.Expr:
-    """Light normalisation of an exact coefficient."""
+    """Light normalisation of an exact coefficient: radicals out of denominators where
+    the number has at most Limits... two kinds of radical (with more, SymPy's radsimp
+    expands without end: (√5 − 1, ∛2, √3/3) ran for minutes)."""
     expr = sp.sympify(expr, strict=True)
     expr = sp.expand(expr) if expr.is_number else sp.factor_terms(sp.cancel(expr))
-    return sp.radsimp(expr) if expr.has(sp.Pow) and expr.is_number else expr
+    if not (expr.is_number and expr.has(sp.Pow)):
+        return expr
+    radicals = {p for p in expr.atoms(sp.Pow) if p.exp.is_Rational and not p.exp.is_Integer}
+    return sp.radsimp(expr) if len(radicals) <= _RADICALS else expr
+
+
+#: Most kinds of radical in a coefficient that radsimp rationalises.
+_RADICALS = 2
 
 
 def _term(kind: Kind, power: int, alpha, beta, a, b, *, clean: bool = True) -> Term | None:

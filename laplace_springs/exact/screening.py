@@ -31,7 +31,12 @@ terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
   (:mod:`laplace_springs.exact.isolation`: a pair of masses of 1e-300 on springs of 1
   driven by cos t ran for minutes), naming the scene's smallest and largest entries.
 
-Each refusal is therefore one the engine would make (or, for a symbolic scene, one
+* A numeric scene whose entries mix more than
+  :attr:`~laplace_springs.limits.Limits.max_exact_irrationals` irrational numbers
+  (√5 − 1, e and π/3 on one mass) is refused on cost: its exact terms ran for 20 s to a
+  coefficient of 180,000 characters, where the numeric engines serve it in milliseconds.
+
+Each other refusal is therefore one the engine would make (or, for a symbolic scene, one
 whose adjugate would not finish); anything the screen cannot decide (entries that are
 not rational functions of the parameters, Δ(p) ≡ 0) goes on to the engine, which
 decides exactly. Scenes above :attr:`~laplace_springs.limits.Limits.max_exact_coordinates` are refused on size alone.
@@ -168,6 +173,24 @@ def exact_refusal(scene: Scene) -> str | None:
 _SCREENED: weakref.WeakKeyDictionary[Scene, tuple[Any, str | None]] = weakref.WeakKeyDictionary()
 
 
+def irrational_numbers(scene: Scene) -> list[sp.Expr]:
+    """The distinct irrational numbers the entries of M, C and K are built from: π, e,
+    and each radical (√5 and ∛2, not √5 − 1 and √5/2), by name.
+
+    >>> from laplace_springs.model.scene import Scene
+    >>> irrational_numbers(Scene.from_matrices(M=[[sp.sqrt(5) - 1]], C=[[sp.E]],
+    ...                                        K=[[sp.sqrt(5) * sp.pi]], x0=[1], v0=[0]))
+    [E, pi, sqrt(5)]
+    """
+    found: set[sp.Expr] = set()
+    for matrix in (scene.M, scene.C, scene.K):
+        for entry in matrix.values():
+            if entry.is_number and not entry.is_Rational:
+                found |= {a for a in entry.atoms(sp.NumberSymbol, sp.Pow, sp.Function)
+                          if not a.is_Rational and (not a.is_Pow or not a.exp.is_Integer)}
+    return sorted(found, key=str)
+
+
 def _refusal(scene: Scene) -> str | None:
     """:func:`exact_refusal`, computed."""
     n = scene.n
@@ -179,6 +202,12 @@ def _refusal(scene: Scene) -> str | None:
             "larger free numeric scenes, within their own limits")
     if free_rational(scene):
         return None  # named roots: exact terms at any degree and size (exact/named_roots.py)
+    mixed = irrational_numbers(scene)
+    if len(mixed) > limits().max_exact_irrationals:
+        return (f"the entries mix {len(mixed)} irrational numbers ({', '.join(map(str, mixed))}) "
+                f"> Limits.max_exact_irrationals = {limits().max_exact_irrationals}: exact terms "
+                "in them take SymPy minutes and are unreadable; the numeric engines serve the "
+                "scene (ls.solve(scene))")
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
     if 2 * n <= limits().max_exact_factor_degree and symbols:
         return None  # no factor of Δ can be too large; symbolic ones are sums over roots

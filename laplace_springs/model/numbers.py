@@ -43,6 +43,7 @@ __all__ = [
     "ALLOWED_FUNCTIONS",
     "ARITY",
     "CONSTANTS",
+    "TRANSCENDENTAL",
     "NOT_FINITE_REAL",
     "ASSUMPTIONS",
     "MAX_MAGNITUDE",
@@ -73,6 +74,9 @@ ALLOWED_FUNCTIONS: Mapping[str, Callable[..., sympy.Expr]] = MappingProxyType(
 
 #: Named constants.
 CONSTANTS: Mapping[str, sympy.Expr] = MappingProxyType({"pi": sympy.pi, "E": sympy.E})
+#: Numbers exact algebra takes as unknowns over the field of the algebraic ones
+#: (transcendental: Lindemann for π, Hermite for e; taken as independent of each other).
+TRANSCENDENTAL: tuple[sympy.Expr, ...] = (sympy.pi, sympy.E, sympy.EulerGamma, sympy.Catalan)
 
 #: Arguments each allowed function takes in text, (fewest, most). SymPy's optional extra
 #: arguments are not text: ``sqrt(4, 0)`` would pass 0 as SymPy's ``evaluate`` flag and

@@ -44,7 +44,7 @@ from .equations import read_equations
 from .errors import SceneError
 from .forcing import forcing_vector
 from .names import describe_coordinate, in_coordinate_order
-from .numbers import declare_parameters, generic_values, shown, to_exact
+from .numbers import TRANSCENDENTAL, declare_parameters, generic_values, shown, to_exact
 from .sampled import Sampled, sampled_entries
 from .supports import (
     SUPPORTS,
@@ -574,6 +574,10 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
     """
     symbols = sorted(M.free_symbols | C.free_symbols | K.free_symbols, key=lambda s: s.name)
     generic = generic_values(symbols)
+    # π, e taken as unknowns too: Δ(λ, π) ≠ 0 at a point proves Δ ≢ 0, and then
+    # Δ(λ) ≢ 0 (π is transcendental); EX would simplify every elimination step
+    constants = [c for c in TRANSCENDENTAL if any(m.has(c) for m in (M, C, K))]
+    generic.update({c: sympy.Rational(101 + 17 * i, 83 + 5 * i) for i, c in enumerate(constants)})
     sparse = M.rows > limits().dense_storage_max_coordinates
     for value in _pencil_points(M.rows, sparse):
         if sparse:
@@ -583,9 +587,9 @@ def _pencil_is_regular(M: sympy.MatrixBase, C: sympy.MatrixBase, K: sympy.Matrix
         pencil = (value**2 * M + value * C + K).xreplace(generic)
         if _determinant(sympy.Matrix(pencil)) != 0:
             return True
-        if symbols:
+        if symbols or constants:
             break
-    if not symbols or sparse:
+    if not (symbols or constants) or sparse:
         return False
     lam = sympy.Dummy("lambda")
     return sympy.cancel(sympy.Matrix(lam**2 * M + lam * C + K).det(method="berkowitz")) != 0

@@ -364,5 +364,9 @@ def _reason(chain: tuple[str, ...], costs: dict[str, Cost], method: str, facts: 
     how = (f"method={method!r} was requested" if method != "auto"
            else "the cheapest engine that serves the request")
     others = ", ".join(f"{name} ~{costs[name].seconds:.2g} s" for name in chain[1:4])
+    # an engine that serves where the one it defers to declined says why that one did
+    preferred = engine(primary).defers_to
+    declined = "".join(f"; {r}" for r in refusals if r.engine == preferred)
     return (f"{primary} ({engine(primary).summary}): {how} for {size} and {request}, "
-            f"~{costs[primary].seconds:.2g} s" + (f"; then {others}" if others else ""))
+            f"~{costs[primary].seconds:.2g} s" + (f"; then {others}" if others else "")
+            + declined)

@@ -331,8 +331,12 @@ class ExoSolution(Solution):
             values[:, start] = data[:, None]
             bounds[:, start] = (np.finfo(float).eps / 2 * np.abs(data))[:, None]
         for solution, columns, shifted in self._placements(exact, order, at_switch=True):
-            part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
-                                                  return_error=True, progress=False)
+            try:
+                part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
+                                                      return_error=True, progress=False)
+            except LimitError:  # no engine bounds the piece there: nor this sum
+                part = np.full((n, len(columns)), np.nan)
+                part_bounds = np.full((n, len(columns)), np.inf)
             values[:, columns] += part[:n]
             bounds[:, columns] += part_bounds[:n]
         return values, bounds + np.finfo(float).eps * np.abs(values)
