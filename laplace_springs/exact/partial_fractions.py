@@ -626,8 +626,9 @@ def _separated_roots(factor: sp.Poly, digits: int = 60) -> bool:
 
 def _coprime(parts: list[sp.Poly], digits: int = 60) -> bool:
     """Whether no root of one of ``parts`` is a root of another (:func:`_apart`)."""
-    found = [_numeric_roots(p, digits) if p.degree() > 0 else ([], 0) for p in parts]
-    if any(f is None for f in found):
+    numbered = [_numeric_roots(p, digits) if p.degree() > 0 else ([], 0) for p in parts]
+    found = [f for f in numbered if f is not None]
+    if len(found) < len(numbered):
         return False
     pairs = [(a, b) for i, (roots, _) in enumerate(found) for other, _ in found[i + 1:]
              for a in roots for b in other]
