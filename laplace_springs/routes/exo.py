@@ -192,6 +192,22 @@ def _state_scale(scene: Scene) -> sp.Expr:
     return sp.Integer(2) ** int(round(math.log2(size)))
 
 
+def _piece_values(solution: Solution, times: list[Fraction], order: int,
+                  target: float) -> tuple[np.ndarray, np.ndarray]:
+    """A piece's values and bounds at ``times`` for ``target``; where its bound misses the
+    piece's refusal bound, its plan's values for a coarse target (the sum's bound is judged
+    by the caller), and NaN with an infinite bound where it has none."""
+    for goal in (target, 0.5):
+        try:
+            found: tuple[np.ndarray, np.ndarray] = solution.evaluate(
+                times, derivative=order, target=goal, return_error=True, progress=False)
+            return found
+        except LimitError:
+            continue
+    shape = (solution.scene.n, len(times))
+    return np.full(shape, np.nan), np.full(shape, np.inf)
+
+
 def exo_refusal(scene: Scene) -> str | None:
     """Why the numeric forced route cannot take ``scene`` (None when it can)."""
     if scene.free_symbols:
@@ -331,12 +347,7 @@ class ExoSolution(Solution):
             values[:, start] = data[:, None]
             bounds[:, start] = (np.finfo(float).eps / 2 * np.abs(data))[:, None]
         for solution, columns, shifted in self._placements(exact, order, at_switch=True):
-            try:
-                part, part_bounds = solution.evaluate(shifted, derivative=order, target=target,
-                                                      return_error=True, progress=False)
-            except LimitError:  # no engine bounds the piece there: nor this sum
-                part = np.full((n, len(columns)), np.nan)
-                part_bounds = np.full((n, len(columns)), np.inf)
+            part, part_bounds = _piece_values(solution, shifted, order, target)
             values[:, columns] += part[:n]
             bounds[:, columns] += part_bounds[:n]
         return values, bounds + np.finfo(float).eps * np.abs(values)
