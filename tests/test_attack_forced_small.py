@@ -28,7 +28,9 @@ TARGET = 1e-13
 SERVED = [("1", "1", "1e-300"), ("1e-100", "1", "1e-300"), ("1e-200", "1", "1e300"),
           ("1e-100", "1e-300", "1e300"),
           # the exosystem's state scaled by |f|/max K_ii (not by |f|·M/K: 2^-998 there)
-          ("1e-300", "1", "1e-300"), ("1e-300", "1", "1"), ("1e-300", "1", "1e300")]
+          ("1e-300", "1", "1e-300"), ("1e-300", "1", "1"), ("1e-300", "1", "1e300"),
+          # the joined scene's equations scaled by one power of two (2e300 in K)
+          ("1e100", "1e300", "1"), ("1e-100", "1e300", "1e300"), ("1e-200", "1e300", "1")]
 
 
 def pair(m: str, k: str, c: str, forcing: str = "cos(t)") -> ls.Scene:

@@ -152,10 +152,28 @@ def _augmented(scene: Scene, inputs: list[_Input], start: bool, scale: sp.Expr) 
         if q:
             x0[node + q - 1] = scale
         node += q
+    _balance(n, (M, C, K))
     def matrix(entries: dict[tuple[int, int], Any]) -> sp.SparseMatrix:
         return sp.SparseMatrix(size, size, {key: v for key, v in entries.items() if v != 0})
     return Scene.from_matrices(M=matrix(M), C=matrix(C), K=matrix(K), x0=x0, v0=v0,
                                title=scene.title)
+
+
+def _balance(n: int, matrices: tuple[dict[tuple[int, int], Any], ...]) -> None:
+    """Scale the scene's n equations (rows of M, C, K) by one power of two, in place, where
+    their entries reach beyond 2^±900: the motion is the same, and springs of 1e300 on
+    masses of 1e100 (2e300 in K) fit the joined scene's float64 range."""
+    sizes = [abs(v) for matrix in matrices for (i, _), v in matrix.items() if i < n and v != 0]
+    if not sizes:
+        return
+    top, bottom = (math.log2(float(v)) if v.is_Rational else math.log2(abs(complex(v)))
+                   for v in (max(sizes), min(sizes)))
+    if bottom >= -900 and top <= 900:
+        return
+    factor = sp.Integer(2) ** -int(round((top + bottom) / 2))
+    for matrix in matrices:
+        for key in [key for key in matrix if key[0] < n]:
+            matrix[key] = matrix[key] * factor
 
 
 def _impulse_jump(scene: Scene, impulses: list[tuple[int, Any]]) -> list[Any]:
@@ -189,7 +207,8 @@ def _state_scale(scene: Scene) -> sp.Expr:
     size = _force_size(scene) / stiff if stiff > 0 else 1.0
     if not (0 < size < np.inf):
         return sp.Integer(1)
-    return sp.Integer(2) ** int(round(math.log2(size)))
+    # within 2^±900: a scene entry (x0 of the state) of float64's range
+    return sp.Integer(2) ** min(max(int(round(math.log2(size))), -900), 900)
 
 
 def _piece_values(solution: Solution, times: list[Fraction], order: int,
