@@ -152,9 +152,10 @@ class Limits:
     max_exact_factor_degree: int = 24
     #: Most distinct irrational numbers (π, e, √5, ∛2: the atoms of the entries of M, C, K)
     #: a numeric scene's exact terms are written in, where the planner chooses: √5 − 1, e
-    #: and π/3 on one forced mass took 20 s to a coefficient of 180,000 characters (the
-    #: numeric engines serve such a scene; method="exact" still builds it).
-    max_exact_irrationals: int = 1
+    #: and π/3 on one forced mass took 20 s to a coefficient of 180,000 characters, √2 and
+    #: π on one free mass 0.2 s to 174 (the numeric engines serve the first; method="exact"
+    #: and ``x`` still build it).
+    max_exact_irrationals: int = 2
     #: Above this degree, an irreducible rational factor that needs CRootOf gives a motion in
     #: named numbers (ρ_j, α_j, β_j, c_j from flint, CRootOf built when asked:
     #: laplace_springs/exact/named_roots.py); up to it, coefficients written out as

@@ -31,9 +31,10 @@ terms are a sum over its roots, :mod:`laplace_springs.exact.root_sums`.)
   (:mod:`laplace_springs.exact.isolation`: a pair of masses of 1e-300 on springs of 1
   driven by cos t ran for minutes), naming the scene's smallest and largest entries.
 
-* A numeric scene whose entries mix more than
+* Where the planner chooses (:func:`exact_refusal`, not :func:`screen_scene`), a numeric
+  scene whose entries mix more than
   :attr:`~laplace_springs.limits.Limits.max_exact_irrationals` irrational numbers
-  (√5 − 1, e and π/3 on one mass) is refused on cost: its exact terms ran for 20 s to a
+  (√5 − 1, e and π/3 on one mass) is declined on cost: its exact terms ran for 20 s to a
   coefficient of 180,000 characters, where the numeric engines serve it in milliseconds.
 
 Each other refusal is therefore one the engine would make (or, for a symbolic scene, one
@@ -149,28 +150,51 @@ def screen_scene(scene: Scene) -> None:
     ...
     laplace_springs.model.errors.InversionError: Δ(λ) = det(λ²M + λC + K) has an irreducible factor of degree 26 > Limits.max_exact_factor_degree = 24: ...
     """
-    why = exact_refusal(scene)
+    why = _screened(scene)[0]
     if why is not None:
         raise InversionError(why)
 
 
 def exact_refusal(scene: Scene) -> str | None:
-    """Why the exact route cannot finish for ``scene``, or None (milliseconds).
+    """Why the planner does not take the exact route for ``scene``, or None (milliseconds).
 
-    See the module notes: every refusal here is one the partial-fraction engine would
-    make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate that
-    would not finish). The answer is kept with the scene for the limits in force: the
-    planner reads it for small forced scenes and the exact engine's build again.
+    See the module notes: every refusal here but one is one the partial-fraction engine
+    would make after building the resolvent and factoring Δ(λ) (or a symbolic adjugate
+    that would not finish); the other is on cost, where the numeric engines serve
+    (entries mixing more than Limits.max_exact_irrationals irrational numbers: an
+    explicit method="exact" and ``x`` still build those). The answer is kept with the
+    scene for the limits in force: the planner reads it for small forced scenes and the
+    exact engine's build again.
     """
+    return _screened(scene)[1]
+
+
+def _screened(scene: Scene) -> tuple[str | None, str | None]:
+    """(the build's refusal, the planner's), computed once per scene and limits."""
     current = limits()
     found = _SCREENED.get(scene)
     if found is None or found[0] is not current:
-        found = _SCREENED[scene] = (current, _refusal(scene))
-    return found[1]
+        build = _refusal(scene)
+        found = _SCREENED[scene] = (current, build, build or _mixed_refusal(scene))
+    return found[1], found[2]
 
 
 #: scene -> (the limits in force, its screen): kept as long as the scene lives.
-_SCREENED: weakref.WeakKeyDictionary[Scene, tuple[Any, str | None]] = weakref.WeakKeyDictionary()
+_SCREENED: weakref.WeakKeyDictionary[Scene, tuple[Any, str | None, str | None]] = \
+    weakref.WeakKeyDictionary()
+
+
+def _mixed_refusal(scene: Scene) -> str | None:
+    """The planner's refusal of a numeric scene mixing too many irrational numbers."""
+    if free_rational(scene):
+        return None
+    mixed = irrational_numbers(scene)
+    if len(mixed) <= limits().max_exact_irrationals:
+        return None
+    return (f"the entries mix {len(mixed)} irrational numbers ({', '.join(map(str, mixed))}) "
+            f"> Limits.max_exact_irrationals = {limits().max_exact_irrationals}: exact terms in "
+            "them can take SymPy minutes and be unreadable; the numeric engines serve the "
+            "scene (method='exact' still builds them)")
 
 
 def irrational_numbers(scene: Scene) -> list[sp.Expr]:
@@ -202,12 +226,6 @@ def _refusal(scene: Scene) -> str | None:
             "larger free numeric scenes, within their own limits")
     if free_rational(scene):
         return None  # named roots: exact terms at any degree and size (exact/named_roots.py)
-    mixed = irrational_numbers(scene)
-    if len(mixed) > limits().max_exact_irrationals:
-        return (f"the entries mix {len(mixed)} irrational numbers ({', '.join(map(str, mixed))}) "
-                f"> Limits.max_exact_irrationals = {limits().max_exact_irrationals}: exact terms "
-                "in them take SymPy minutes and are unreadable; the numeric engines serve the "
-                "scene (ls.solve(scene))")
     symbols = set().union(*(m.free_symbols for m in (scene.M, scene.C, scene.K)))
     if 2 * n <= limits().max_exact_factor_degree and symbols:
         return None  # no factor of Δ can be too large; symbolic ones are sums over roots
