@@ -197,9 +197,14 @@ _EXACT_METHODS = frozenset({"exact", "mp"})
 def _screened(facts: SceneFacts) -> bool:
     """Whether the planner asks the exact route's screen up front: a forced numeric scene
     with a first-order form below Limits.exo_min_coordinates, where the exact route is
-    preferred (closed forms) and the exo engine serves only where exact refuses."""
-    return (facts.forced and not facts.symbolic and not facts.sampled and facts.first_order
-            and facts.n < limits().exo_min_coordinates)
+    preferred (closed forms) and the exo engine serves only where exact refuses; and a
+    free numeric scene with irrational entries (entries mixing many of them cost the
+    exact route minutes: an exo piece's joined scene with √2, √5, ∛2 and e)."""
+    if facts.symbolic or facts.sampled:
+        return False
+    if not facts.forced:
+        return not facts.rational
+    return facts.first_order and facts.n < limits().exo_min_coordinates
 
 
 def _with_exact_quote(scene: Scene, facts: SceneFacts, table: dict) -> SceneFacts:
