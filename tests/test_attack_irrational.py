@@ -168,3 +168,21 @@ def test_polynomial_forces_on_irrational_entries_are_bounded(forcing):
     expected = reference(M, C, K, [1, 0], laws, TIMES)
     assert np.all(np.abs(values - expected) <= bounds)
     assert np.max(bounds) <= 1e-10 * max(1.0, float(np.max(np.abs(expected))))
+
+
+@pytest.mark.parametrize(("mass", "spring", "force", "law"), [
+    (sp.pi, sp.pi, "cos(t)", mpmath.cos),
+    (sp.sqrt(2), 2 * sp.sqrt(2), "sin(sqrt(2)*t)", lambda t: mpmath.sin(mpmath.sqrt(2) * t)),
+], ids=["pi", "sqrt2"])
+def test_resonance_with_irrational_entries_keeps_its_double_pole(mass, spring, force, law):
+    """The force's poles are the scene's: Δ(λ) and the force's denominator share λ² + ω²,
+    so they are factored together (t·sin and t·cos terms), not one by one."""
+    M, C, K = [[mass]], [[0]], [[spring]]
+    sol = ls.solve(ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1], v0=[0], forcing=[force]))
+    assert sol.method == "exact"
+    values, bounds = sol.evaluate(TIMES, return_error=True)
+    expected = reference(M, C, K, [1], [law], TIMES)
+    assert np.all(np.abs(values - expected) <= bounds)
+    growing = [term for term in sp.Add.make_args(sp.expand(sol.x[0])) if term.has(ls.t)
+               and sp.degree(term.as_independent(sp.sin, sp.cos)[0], ls.t) == 1]
+    assert growing  # the resonant t·sin or t·cos term
