@@ -626,7 +626,8 @@ def _separated_roots(factor: sp.Poly, digits: int = 60) -> bool:
 
 def _coprime(parts: list[sp.Poly], digits: int = 60) -> bool:
     """Whether no root of one of ``parts`` is a root of another (:func:`_apart`)."""
-    numbered: list[tuple[list, Any] | None] = [_numeric_roots(p, digits) if p.degree() > 0 else ([], 0) for p in parts]
+    numbered: list[tuple[list, Any] | None] = [
+        _numeric_roots(p, digits) if p.degree() > 0 else ([], 0) for p in parts]
     found = [f for f in numbered if f is not None]
     if len(found) < len(numbered):
         return False

@@ -117,8 +117,8 @@ def _primitive(poly: sp.Poly) -> sp.Poly:
 
 def _clean(expr: sp.Expr) -> sp.Expr:
     """Light normalisation of an exact coefficient: radicals out of denominators where
-    the number has at most Limits... two kinds of radical (with more, SymPy's radsimp
-    expands without end: (√5 − 1, ∛2, √3/3) ran for minutes)."""
+    the number has at most two kinds of radical (with more, SymPy's radsimp expands
+    without end: √5 − 1, ∛2 and √3/3 on one forced mass ran for minutes)."""
     expr = sp.sympify(expr, strict=True)
     expr = sp.expand(expr) if expr.is_number else sp.factor_terms(sp.cancel(expr))
     if not (expr.is_number and expr.has(sp.Pow)):

@@ -240,9 +240,13 @@ def _serving(facts: SceneFacts, request: Request, method: str, names: frozenset[
     serving: list[Engine] = []
     refusals: list[Refusal] = []
     for entry in ENGINES:
-        if entry.name in names:
-            refusal = entry.refuses(facts, request)
-            (serving.append(entry) if refusal is None else refusals.append(refusal))
+        if entry.name not in names:
+            continue
+        refusal = entry.refuses(facts, request)
+        if refusal is None:
+            serving.append(entry)
+        else:
+            refusals.append(refusal)
     taken = {e.name for e in serving}
     deferring = [e for e in serving
                  if e.defers_to in taken and e.name != method and e.name not in built]
