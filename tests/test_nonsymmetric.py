@@ -3,8 +3,9 @@
 - A gyroscopic C (antisymmetric part G = -Gᵀ) and a circulatory K (antisymmetric part) are real
   physics: every route solves them, checked against the arb matrix-exponential reference and,
   for the gyroscopic case, against conservation of energy (G does no work).
-- A non-symmetric M is refused; the seed's non-symmetric A = M⁻¹K enters through
-  ``Scene.from_normalized`` (M = I).
+- A non-symmetric M given as a matrix is refused; the seed's non-symmetric A = M⁻¹K enters
+  through ``Scene.from_normalized`` (M = I), and equations with a non-symmetric invertible M
+  are solved for the accelerations by ``Scene.from_equations``.
 """
 
 from __future__ import annotations
@@ -67,4 +68,16 @@ def test_a_non_symmetric_mass_matrix_is_refused(M):
 def test_the_seeds_non_symmetric_A_is_the_normalized_form():
     scene = Scene.from_normalized(A=[[3, -1], [-2, 2]], x0=[1, 0], v0=[0, 1])
     reference = reference_motion_arb(scene, list(TIMES), digits=30).astype(float)
+    assert np.max(np.abs(solve(scene).evaluate(TIMES) - reference)) < 1e-13
+
+
+def test_equations_with_a_non_symmetric_mass_matrix_are_solved_for_the_accelerations():
+    """2x'' + y'' + 2x − y = 0 and y'' − x + 2y = 0 (M = [[2, 1], [0, 1]]) were refused for
+    a non-symmetric M. By hand: y'' = x − 2y and x'' = (−2x + y − y'')/2 = −3x/2 + 3y/2,
+    the seed's normalized form with A = [[3/2, −3/2], [−1, 2]] (the reference)."""
+    scene = Scene.from_equations(["2*x'' + y'' + 2*x - y = 0", "y'' - x + 2*y = 0"],
+                                 coordinates=["x", "y"], x0={"x": 1, "y": 0},
+                                 v0={"x": 0, "y": "1/2"})
+    by_hand = Scene.from_normalized(A=[["3/2", "-3/2"], [-1, 2]], x0=[1, 0], v0=[0, "1/2"])
+    reference = reference_motion_arb(by_hand, list(TIMES), digits=30).astype(float)
     assert np.max(np.abs(solve(scene).evaluate(TIMES) - reference)) < 1e-13

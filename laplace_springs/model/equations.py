@@ -124,13 +124,36 @@ class EquationSystem:
 
     def matrices(self) -> dict[str, Any]:
         """The keyword arguments of :meth:`laplace_springs.Scene.from_matrices` (M, C, K as
-        sparse matrices: only their nonzero entries are read)."""
-        def sparse(rows: list[list[sp.Expr]]) -> sp.ImmutableSparseMatrix:
-            return sp.ImmutableSparseMatrix(len(rows), len(rows), {
-                (i, j): value for i, row in enumerate(rows) for j, value in enumerate(row) if value != 0})
+        sparse matrices: only their nonzero entries are read). Equations whose M is not
+        symmetric but invertible are solved for the accelerations first (M⁻¹ times both
+        sides, so M = I): a scene's M is symmetric.
 
-        return {"M": sparse(self.M), "C": sparse(self.C), "K": sparse(self.K),
-                "x0": self.x0, "v0": self.v0, "names": self.names, "forcing": self.forcing,
+        >>> system = read_equations(["2*x'' + y'' + 2*x - y = 0", "y'' - x + 2*y = 0",
+        ...                          "x(0) = 1", "x'(0) = 0", "y(0) = 0", "y'(0) = 0"],
+        ...                         coordinates=["x", "y"])
+        >>> found = system.matrices()
+        >>> found["M"], found["K"]
+        (Matrix([
+        [1, 0],
+        [0, 1]]), Matrix([
+        [3/2, -3/2],
+        [ -1,    2]]))
+        """
+        def sparse(rows: list[list[sp.Expr]] | sp.Matrix) -> sp.ImmutableSparseMatrix:
+            dense = sp.Matrix(rows)
+            return sp.ImmutableSparseMatrix(dense.rows, dense.cols, {
+                key: value for key, value in dense.todok().items() if value != 0})
+
+        M, C, K, forcing = (sp.Matrix(self.M), sp.Matrix(self.C), sp.Matrix(self.K),
+                            self.forcing)
+        if M != M.T and sp.simplify(M.det()) != 0:
+            inverse = M.inv()
+            M, C, K = sp.eye(M.rows), (inverse * C).applyfunc(sp.cancel), \
+                (inverse * K).applyfunc(sp.cancel)
+            if forcing is not None:
+                forcing = [sp.expand(v) for v in inverse * sp.Matrix(forcing)]
+        return {"M": sparse(M), "C": sparse(C), "K": sparse(K),
+                "x0": self.x0, "v0": self.v0, "names": self.names, "forcing": forcing,
                 "parameters": self.parameters}
 
 

@@ -1583,7 +1583,9 @@ class Scene:
         -------
         Scene
             Rows of M, C, K are the equations (each sign-normalised so that its own
-            leading coefficient is positive), columns the coordinates.
+            leading coefficient is positive), columns the coordinates; equations whose M
+            is not symmetric but invertible are solved for the accelerations first (M⁻¹
+            times both sides: M = I).
 
         Raises
         ------
