@@ -416,6 +416,18 @@ def _large_formula_lines(scene: Scene, chosen: list[int] | None, pretty: bool) -
     return modal_formula_lines(scene, chosen, pretty=pretty, mode_list=mode_list)
 
 
+def _without_exact_form(scene: Scene, chosen: list[int] | None, pretty: bool,
+                        why: str) -> list[str]:
+    """Where the exact route has no closed form (a factor with irrational coefficients):
+    a free scene's formula from its float64 modes, after a note saying why; a forced
+    scene is tabulated instead (a UsageError that says how)."""
+    if scene.is_forced:
+        raise UsageError(f"x(t) has no closed form here ({why}); tabulate it with --at T1,T2,... "
+                         "or see the free motion's modes with --modes")
+    return [f"note: no exact closed form ({why}); x(t) from the float64 modes:",
+            *_large_formula_lines(scene, chosen, pretty=pretty)]
+
+
 def _format_value(value, digits: int) -> str:
     if isinstance(value, mpmath.mpf):
         return mpmath.nstr(value, digits, min_fixed=-4, max_fixed=digits)
@@ -477,8 +489,13 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
         values = solution.evaluate(times, dps=args.dps)
         lines += _table_lines(scene.names, times, values, args.dps or TABLE_DIGITS)
     else:
-        lines += formula_lines(scene, list(solution.x), solution.conditions, pretty=args.pretty,
-                               coordinates=chosen)
+        try:
+            x = list(solution.x)
+        except (InversionError, SceneError) as exc:  # no exact form: irrational entries
+            lines += _without_exact_form(scene, chosen, args.pretty, str(exc))
+        else:
+            lines += formula_lines(scene, x, solution.conditions, pretty=args.pretty,
+                                   coordinates=chosen)
     lines += [unit_note_text(scene)] if scene.units is not None else []
     print("\n".join(lines), file=out)
 

@@ -443,3 +443,45 @@ def test_installed_entry_point_reports_errors_without_traceback():
     assert result.stdout == ""
     assert result.stderr.splitlines() == [result.stderr.strip()]
     assert result.stderr.startswith("laplace-springs: error: unknown scene 'no-such-scene'")
+
+
+IRRATIONAL_PAIR = """
+title = "irrational pair"
+[masses]
+m1 = "sqrt(2)"
+m2 = "1"
+[springs]
+k1 = ["wall", "m1", "2"]
+k2 = ["m1", "m2", "pi"]
+[dashpots]
+c1 = ["wall", "m1", "1/10"]
+[initial]
+x0 = {m1 = 1}
+"""
+
+
+def test_solve_without_an_exact_form_prints_the_float_modes_formula(capsys, tmp_path):
+    """√2 and π: Δ is an irreducible quartic with irrational coefficients, so there are no
+    exact roots; the formula comes from the float64 modes, after a note (it was an error)."""
+    path = tmp_path / "pair.toml"
+    path.write_text(IRRATIONAL_PAIR)
+    code, out, _ = run(capsys, "solve", str(path))
+    assert code == 0
+    lines = out.splitlines()
+    assert lines[1].startswith("note: no exact closed form (irreducible factor of degree 4")
+    assert lines[2].startswith("x1(t) = ") and lines[3].startswith("x2(t) = ")
+    values = named_values(lines[5:])
+    # Δ(λ) = (√2λ² + λ/10 + 2 + π)(λ² + π) − π², written out by hand
+    delta = np.polysub(np.polymul([math.sqrt(2), 0.1, 2 + math.pi], [1, 0, math.pi]),
+                       [math.pi**2])
+    for j in (1, 2):
+        root = complex(values[sympy.Symbol(f"alpha_{j}")], values[sympy.Symbol(f"beta_{j}")])
+        assert abs(np.polyval(delta, root)) < 1e-9
+
+
+def test_solve_of_a_forced_scene_without_an_exact_form_says_to_tabulate(capsys, tmp_path):
+    path = tmp_path / "pair.toml"
+    path.write_text(IRRATIONAL_PAIR + '[forcing]\nm1 = "cos(t)"\n')
+    assert_one_line_error(*run(capsys, "solve", str(path)), "no closed form", "--at")
+    code, out, _ = run(capsys, "solve", str(path), "--at", "0,1")
+    assert code == 0 and out.splitlines()[2].split()[:2] == ["0", "1"]

@@ -314,9 +314,11 @@ class ExoSolution(Solution):
 
     @property
     def x(self) -> sp.ImmutableMatrix:
-        raise SceneError("the numeric forced route gives values, not a closed form; "
-                         "ls.solve(scene, method='exact') gives x(t) where the scene is small "
-                         "enough (Limits.max_exact_factor_degree)")
+        raise SceneError("the numeric forced route gives values, not a closed form (the "
+                         "solution's reason says why the exact route did not serve); "
+                         "ls.solve(scene, method='exact') gives x(t) where that route can: "
+                         "scenes small enough (Limits.max_exact_factor_degree) whose factors "
+                         "have rational coefficients or degree <= 2")
 
     @property
     def poles(self) -> np.ndarray:
