@@ -491,11 +491,13 @@ def _run_solve(args: argparse.Namespace, out: TextIO) -> None:
     else:
         try:
             x = list(solution.x)
-        except (InversionError, SceneError) as exc:  # no exact form: irrational entries
+        except (InversionError, SceneError) as exc:  # a forced scene without an exact form
             lines += _without_exact_form(scene, chosen, args.pretty, str(exc))
         else:
-            lines += formula_lines(scene, x, solution.conditions, pretty=args.pretty,
-                                   coordinates=chosen)
+            inexact = getattr(solution, "inexact_reason", None)  # float64 terms in x
+            lines += _without_exact_form(scene, chosen, args.pretty, inexact) if inexact else \
+                formula_lines(scene, x, solution.conditions, pretty=args.pretty,
+                              coordinates=chosen)
     lines += [unit_note_text(scene)] if scene.units is not None else []
     print("\n".join(lines), file=out)
 

@@ -186,3 +186,19 @@ def test_resonance_with_irrational_entries_keeps_its_double_pole(mass, spring, f
     growing = [term for term in sp.Add.make_args(sp.expand(sol.x[0])) if term.has(ls.t)
                and sp.degree(term.as_independent(sp.sin, sp.cos)[0], ls.t) == 1]
     assert growing  # the resonant t·sin or t·cos term
+
+
+def test_x_of_a_free_scene_without_an_exact_form_is_its_float_column():
+    """√2 and π: Δ is an irreducible quartic with irrational coefficients. ``x`` and
+    ``latex()`` raised the exact route's InversionError; they are now the float64 terms,
+    and ``inexact_reason`` says why."""
+    M = [[sp.sqrt(2), 0], [0, 1]]
+    C = [[sp.Rational(1, 10), 0], [0, 0]]
+    K = [[2 + sp.pi, -sp.pi], [-sp.pi, sp.pi]]
+    sol = ls.solve(ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1, 0], v0=[0, 0]))
+    x = sol.x
+    assert "irrational coefficients" in sol.inexact_reason
+    assert sol.latex().startswith("\\begin{aligned}")
+    expected = reference(M, C, K, [1, 0], [0, 0], TIMES)
+    printed = np.array([[float(x[i].subs(ls.t, t)) for t in TIMES] for i in range(2)])
+    assert np.max(np.abs(printed - expected)) < 1e-12

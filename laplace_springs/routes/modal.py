@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..limits import limits
+from ..model.errors import InversionError
 from ..model.scene import Scene
 from ..numeric.certified import CertifiedPoles, certified_digits, certified_poles, certified_values
 from ..numeric.chebyshev import ChebyshevMotion
@@ -96,12 +97,22 @@ class ModalSolution(Solution):
 
     @cached_property
     def _exact_form(self) -> ExactSolution | None:
-        return exact_solution_of(self.scene, method=self.method, target=self.target)
+        """The exact solution, or None beyond Limits.exact_form_max_coordinates and where
+        the exact route has no closed form (a factor of Δ with irrational coefficients)."""
+        try:
+            return exact_solution_of(self.scene, method=self.method, target=self.target)
+        except InversionError as exc:
+            self.inexact_reason = str(exc)
+            return None
+
+    #: Why ``x`` is not the exact closed form of a scene small enough for one (the exact
+    #: route's refusal), once ``x`` has been built; None otherwise.
+    inexact_reason: str | None = None
 
     @cached_property
     def x(self) -> Any:
         """x(t), built on first use: the exact closed form up to Limits.exact_form_max_coordinates
-        coordinates; up to Limits.closed_form_max_coordinates a SymPy column of terms
+        coordinates where it exists; otherwise, up to Limits.closed_form_max_coordinates, a SymPy column of terms
         t^p e^{αt}(a cos βt + b sin βt) with Float coefficients; beyond, the same terms as a
         :class:`~laplace_springs.numeric.classical.ModalForm` (a sum over modes with
         coefficient vectors: ``x[i]`` is row i, ``x.as_matrix()`` the whole column)."""
