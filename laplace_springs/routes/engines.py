@@ -66,8 +66,13 @@ def _exact_host(solution: Solution) -> ExactSolution | Refusal:
 def _exact_form(solution: Solution) -> ExactSolution:
     """The exact terms of ``solution``'s scene (its own exact form where it keeps one)."""
     form = solution._exact_form
-    return form if isinstance(form, ExactSolution) else ExactSolution(
-        exact_motion(solution.scene), reason="exact terms for the plan", target=solution.target)
+    if isinstance(form, ExactSolution):
+        return form
+    why = getattr(solution, "inexact_reason", None)  # its own attempt refused: not again
+    if why is not None:
+        raise InversionError(why)
+    return ExactSolution(exact_motion(solution.scene), reason="exact terms for the plan",
+                         target=solution.target)
 
 
 def _certified_host(solution: Solution) -> CertifiedSolution | Refusal:
