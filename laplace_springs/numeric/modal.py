@@ -866,8 +866,7 @@ class ModalMotion:
         Terms t^p e^{αt}(a cos βt + b sin βt); coefficients below ``relative`` of the
         largest are left out (t^p terms appear only for defective poles).
         """
-        inner = _closed_form(self.modes, self.modes.n, relative)
-        rows = [self.scale * e for e in inner]
+        rows = _closed_form(self.modes, self.modes.n, relative, self.scale)
         if self.split is None:
             return sp.ImmutableMatrix(rows)
         affine = self._affine
@@ -966,8 +965,10 @@ def _collect(modes: Modes) -> dict[tuple[int, float, float], np.ndarray]:
     return table
 
 
-def _closed_form(modes: Modes, n: int, relative: float) -> list[sp.Expr]:
-    table = _collect(modes)
+def _closed_form(modes: Modes, n: int, relative: float, scale: float = 1.0) -> list[sp.Expr]:
+    """The rows of x(t) with Float coefficients, each weight times ``scale`` (the
+    initial state's size: no bare factor 1.0*(...) in front of the terms)."""
+    table = {key: weights * scale for key, weights in _collect(modes).items()}
     largest = max((np.max(np.abs(v)) for v in table.values()), default=0.0)
     rows: list[sp.Expr] = [sp.Integer(0)] * n
     t = TIME
