@@ -139,17 +139,17 @@ class EquationSystem:
         [3/2, -3/2],
         [ -1,    2]]))
         """
-        def sparse(rows: list[list[sp.Expr]] | sp.Matrix) -> sp.ImmutableSparseMatrix:
-            dense = sp.Matrix(rows)
-            return sp.ImmutableSparseMatrix(dense.rows, dense.cols, {
-                key: value for key, value in dense.todok().items() if value != 0})
+        def sparse(rows: list[list[sp.Expr]]) -> sp.ImmutableSparseMatrix:
+            return sp.ImmutableSparseMatrix(len(rows), len(rows), {
+                (i, j): value for i, row in enumerate(rows) for j, value in enumerate(row) if value != 0})
 
-        M, C, K, forcing = (sp.Matrix(self.M), sp.Matrix(self.C), sp.Matrix(self.K),
-                            self.forcing)
-        if M != M.T and sp.simplify(M.det()) != 0:
-            inverse = M.inv()
-            M, C, K = sp.eye(M.rows), (inverse * C).applyfunc(sp.cancel), \
-                (inverse * K).applyfunc(sp.cancel)
+        M, C, K, forcing = self.M, self.C, self.K, self.forcing
+        symmetric = all(M[j][i] == value for i, row in enumerate(M)
+                        for j, value in enumerate(row) if value != 0)
+        if not symmetric and sp.simplify(sp.Matrix(M).det()) != 0:
+            inverse = sp.Matrix(M).inv()
+            M = sp.eye(len(M)).tolist()
+            C, K = ((inverse * sp.Matrix(A)).applyfunc(sp.cancel).tolist() for A in (C, K))
             if forcing is not None:
                 forcing = [sp.expand(v) for v in inverse * sp.Matrix(forcing)]
         return {"M": sparse(M), "C": sparse(C), "K": sparse(K),
