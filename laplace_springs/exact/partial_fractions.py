@@ -567,12 +567,15 @@ def _squarefree(factors: list[tuple[sp.Poly, int]]) -> list[tuple[sp.Poly, int]]
 
 
 def _squarefree_parts(factor: sp.Poly) -> list[tuple[sp.Poly, int]]:
-    """``factor.sqf_list()[1]``, taken over the exact ring of its coefficients where they
+    """``factor.sqf_list()[1]``: the factor itself where its roots are numerically
+    separated (milliseconds); else taken over the exact ring of its coefficients where they
     are algebraic numbers and π, e (:func:`_in_exact_ring`: √2 + ∛3 in 11 ms, where EX
-    simplified for 5 s); in EX otherwise, unless its roots are numerically separated."""
+    simplified for 5 s), in EX otherwise."""
+    if _separated_roots(factor):
+        return [(factor, 1)]
     ring = _in_exact_ring(factor)
     if ring is None:
-        return [(factor, 1)] if _separated_roots(factor) else list(factor.sqf_list()[1])
+        return list(factor.sqf_list()[1])
     exact, back = ring
     return [(_in_ex(part, factor.gen, back), power) for part, power in exact.sqf_list()[1]]
 
