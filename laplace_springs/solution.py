@@ -264,12 +264,14 @@ class Solution(ABC):
         goal = self.target if target is None else check_target(target)  # ours: checked
         if self._standing and order == 0 and dps is None and not return_report \
                 and _quiet(progress, self.scene, len(T)) \
-                and (found := self._standing_values(T, goal)) is not None:
+                and (found := self._standing_values(T, goal, return_error)) is not None:
             values, bounds = found
         else:
             values, bounds, report = self._planned_values(T, order, goal, dps, progress)
         if units:  # Quantities in the scene's units or the unit asked for
-            values, bounds = (attach_units(a, self.scene, order, units) for a in (values, bounds))
+            values = attach_units(values, self.scene, order, units)
+            if return_error:
+                bounds = attach_units(bounds, self.scene, order, units)
         out = (values, bounds) if return_error else (values,)
         out = (*out, report) if return_report else out
         return out if len(out) > 1 else out[0]
@@ -299,25 +301,39 @@ class Solution(ABC):
     #: of every float64 request of x (:mod:`laplace_springs.planning.standing`).
     _standing: bool = False
 
-    def _standing_values(self, times: Times, target: float) -> tuple[np.ndarray, np.ndarray] | None:
+    def _standing_values(self, times: Times, target: float,
+                         bounds: bool = True) -> tuple[np.ndarray, np.ndarray | None] | None:
         """x at ``times`` from the solution's own engine alone, when every bound is within
         target·S₀ (so within the target of every time's scale, and no time is pending) and
         every value within float64's range: what executing the plan gives then, without
-        planning. None otherwise (the request is planned and executed in full)."""
+        planning. None otherwise (the request is planned and executed in full).
+
+        Without ``bounds`` (the caller returns none), the engine's bound over [0, last
+        time] is asked first: where it meets the target the values alone are formed, the
+        same numbers (their bounds None)."""
         if not standing_covers(len(times)):
             return None
         floor = self._floor(0)
         if not floor > 0:
             return None
+        if not bounds and (covered := self._covered_values(times, target * floor)) is not None \
+                and float(np.maximum.reduce(np.abs(covered), axis=None)) <= _HUGE:
+            return covered, None
         # the primary, as executed (the standing engine's evaluation keeps NumPy quiet and
         # returns new float64 arrays)
         evaluator: Any = self._evaluator(self.method)
-        values, bounds = evaluator(times, 0, target)
+        values, found = evaluator(times, 0, target)
         sizes = np.abs(values)
-        if not (float(np.maximum.reduce(bounds, axis=None)) / floor <= target
+        if not (float(np.maximum.reduce(found, axis=None)) / floor <= target
                 and float(np.maximum.reduce(sizes, axis=None)) <= _HUGE):  # NaN fails both
             return None
-        return values, _floored(bounds, sizes)
+        return values, _floored(found, sizes)
+
+    def _covered_values(self, times: Times, most: float) -> np.ndarray | None:
+        """x at ``times`` from the solution's own engine without bounds, where its bound
+        over [0, last time] is known to be at most ``most`` without per-time work; None
+        otherwise (and for engines that cannot tell)."""
+        return None
 
     def plan(self, times: Any = None, *, target: float | None = None, dps: int | None = None,
              derivative: int = 0) -> Plan:

@@ -66,7 +66,7 @@ from ..model.errors import SceneError
 from ..model.scene import Scene
 from .first_order import rational_entries, scene_cache
 from .times import Times, as_times  # noqa: F401  (doctests)
-from .tiny_blocks import BlockMotion
+from .tiny_blocks import BlockMotion, peak
 
 __all__ = ["TinyMotion", "TinyData", "tiny_refusal", "tiny_cost", "tiny_motion", "tiny_data"]
 
@@ -376,6 +376,26 @@ class TinyMotion:
                 values[:, zeros], bounds[:, zeros] = initial[:, None], np.array(rounding)[:, None]
         return values, bounds
 
+    def values(self, times: Times, order: int) -> np.ndarray:
+        """The values of :meth:`evaluate` alone, the same numbers, for a caller whose
+        :meth:`bound_until` of the last time already meets its target (every bound
+        :meth:`evaluate` would give is within it).
+
+        >>> scene = Scene.from_matrices(M=[[1, 0], [0, 2]], C=[[1, 0], [0, 0]],
+        ...                             K=[[3, -1], [-1, 1]], x0=[1, 0], v0=[0, 0])
+        >>> motion, times = tiny_motion(scene), as_times([0.0, 0.5, 2.0])
+        >>> bool((motion.values(times, 0) == motion.evaluate(times, 0)[0]).all())
+        True
+        """
+        if order not in (0, 1, 2):
+            raise ValueError(f"derivative must be 0, 1 or 2, got {order!r}")
+        t = times.hi
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            values = self.form.values(t, times.lo if times.given else None, order)
+        if times.span[0] == 0:
+            values[:, (t == 0).nonzero()[0]] = self.data.initial(order)[:, None]
+        return values
+
     def largest_bound(self, t: np.ndarray) -> float:
         """The largest bound of x at the float64 times ``t`` over every coordinate (inf
         where the decomposition serves no time): the bounds of :meth:`evaluate` without its
@@ -434,12 +454,6 @@ def _sqrt_dd(value: Any) -> tuple[float, float]:
     hi = math.sqrt(float(value))
     exact = fmpq(*hi.as_integer_ratio())
     return hi, float((value - exact * exact) / (2 * exact))
-
-
-def _exp_at_most(rate: float, t_max: float) -> float:
-    """max over t in [0, t_max] of e^{rate·t}, rounded up (inf beyond float64)."""
-    exponent = max(rate, 0.0) * t_max
-    return math.exp(exponent) * (1 + 1e-15) if exponent < 709 else math.inf
 
 
 #: Relative error of e^{λt} per unit |λ|·t: λ rounded (≤ 6.3u for the roots of the
@@ -511,6 +525,10 @@ class _Scalar:
             + 1e-300 * (abs(p) + abs(w) * (1 + t))
         return values[None, :], bound[None, :]
 
+    def values(self, t: np.ndarray, lo: np.ndarray | None, order: int) -> np.ndarray:
+        """The values of :meth:`evaluate` alone."""
+        return self.evaluate(t, lo, order)[0]
+
     def bound_until(self, t_max: float) -> float:
         """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
         [0, t_max], in float arithmetic: each branch's bound with every per-time factor at
@@ -528,37 +546,47 @@ class _Scalar:
         if not T < 1e300:
             return math.inf
         p, w = (abs(v) for v in self._initial(0))
-        E = _exp_at_most(self.alpha, T)
         if self.sign < 0:
-            omega = self.omega[0]
-            eps = 11 * U + T * ((_EXP_SLOPE * abs(self.alpha) + 8 * U * U * omega)
-                                + 2 * (U * omega) ** 2 * T)
-            err_C, err_S = E * eps, E * (eps + 2 * U) * min(T, 1 / omega)
+            err_C, err_S = self._under_until(T)
         elif self.sign == 0:
-            eps = 5 * U + _EXP_SLOPE * abs(self.alpha) * T
-            err_C, err_S = E * eps, T * E * (eps + U)
+            P = [peak(self.alpha, k, T) for k in range(3)]
+            A = _EXP_SLOPE * abs(self.alpha)
+            err_C, err_S = 5 * U * P[0] + A * P[1], 6 * U * P[1] + A * P[2]
         else:
-            err_C, err_S = self._over_until(T, E)
+            err_C, err_S = self._over_until(T)
         found = p * _SAFETY * err_C + w * _SAFETY * err_S + 1e-300 * (p + w * (1 + T))
-        return found * (1 + 1e-12)  # this sum's own rounding
+        return math.inf if math.isnan(found) else found * (1 + 1e-12)  # the sum's rounding
 
-    def _over_until(self, T: float, E: float) -> tuple[float, float]:
-        """The largest err_C and err_S of :meth:`_over` over [0, T]: the sum of both
-        branches' (cosh and sinh(x)/x of x ≤ 1/2 where √D·t < 1/2; e^{λ₊t}, e^{λ₋t} at
-        their largest beyond)."""
+    def _under_until(self, T: float) -> tuple[float, float]:
+        """The largest err_C and err_S of :meth:`_under` on [0, T]: e^{αt}·ε(t) with
+        ε = 11u + t(A + Bt), and (err_C + 2u·e^{αt})·min(t, 1/ω), each power of t with
+        e^{αt} at its peak."""
+        omega = self.omega[0]
+        P = [peak(self.alpha, k, T) for k in range(4)]
+        A = _EXP_SLOPE * abs(self.alpha) + 8 * U * U * omega
+        B = 2 * (U * omega) ** 2
+        err_C = 11 * U * P[0] + A * P[1] + B * P[2]
+        err_S = min(13 * U * P[1] + A * P[2] + B * P[3],
+                    (13 * U * P[0] + A * P[1] + B * P[2]) / omega)
+        return err_C, err_S
+
+    def _over_until(self, T: float) -> tuple[float, float]:
+        """The largest err_C and err_S of :meth:`_over` on [0, T]: the sum of both
+        branches' (cosh and sinh(x)/x of x ≤ min(√D·T, 1/2) where √D·t < 1/2; e^{λ₊t} and
+        e^{λ₋t} beyond), each power of t with its exponential at its peak."""
         s = self.root
         h = min(s * T, 0.5)
-        eps = 13 * U + _EXP_SLOPE * abs(self.alpha) * T
-        C, S = E * math.cosh(h), E * T * (math.sinh(h) / h if h > 0 else 1.0)
-        err_C, err_S = C * eps, S * (eps + U)
+        A = _EXP_SLOPE * abs(self.alpha)
+        P = [peak(self.alpha, k, T) for k in range(3)]
+        err_C = math.cosh(h) * (13 * U * P[0] + A * P[1])
+        err_S = (math.sinh(h) / h if h > 0 else 1.0) * (14 * U * P[1] + A * P[2])
         if s * T >= 0.5:
             up, down = self.rates
-            E1, E2 = _exp_at_most(up, T), _exp_at_most(down, T)
-            absolute = E1 * (2 * U + _EXP_SLOPE * abs(up) * T) \
-                + E2 * (2 * U + _EXP_SLOPE * abs(down) * T)
-            C, S = (E1 + E2) / 2, (E1 + E2) / (2 * s)
-            err_C += absolute / 2 + 4 * U * C
-            err_S += absolute / (2 * s) + 7 * U * S
+            E = peak(up, 0, T) + peak(down, 0, T)
+            absolute = 2 * U * E + _EXP_SLOPE * (abs(up) * peak(up, 1, T)
+                                                 + abs(down) * peak(down, 1, T))
+            err_C += absolute / 2 + 2 * U * E
+            err_S += absolute / (2 * s) + 3.5 * U * E / s
         return err_C, err_S
 
     def _under(self, t: np.ndarray, lo: np.ndarray | None) -> tuple[np.ndarray, ...]:

@@ -60,7 +60,7 @@ from flint import fmpq
 
 from ..kernels.dd import U
 
-__all__ = ["BlockMotion"]
+__all__ = ["BlockMotion", "peak"]
 
 #: Unit roundoff of the extended precision the residuals are formed in (2⁻⁶⁴ where
 #: ``numpy.longdouble`` is x87 80-bit; 2⁻⁵³ where it is float64, which only loosens the
@@ -135,6 +135,27 @@ def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     signature = "d->ddd" if P.dtype.kind == "f" else "D->DdD"
     u, s, vh = gufunc(P, signature=signature)
     return u, s, vh
+
+
+def peak(rate: float, power: int, T: float) -> float:
+    """max over t in [0, T] of t^power·e^{rate·t}, rounded up (inf beyond float64): at
+    t = power/|rate| for a decaying rate whose maximum is inside, else at T.
+
+    >>> round(peak(-2.0, 1, 10.0) * 2 * math.e, 12)   # at t = 1/2: (1/2)·e^{-1}
+    1.0
+    >>> peak(-2.0, 1, 0.25) == 0.25 * math.exp(-0.5) * (1 + 1e-14)   # at T
+    True
+    """
+    try:
+        if rate < 0 and power < -rate * T:  # the maximum is inside: (k/|r|)^k e^{−k}
+            top = power / -rate
+            value = top ** power * math.exp(-power)
+        else:
+            exponent = rate * T
+            value = T ** power * math.exp(exponent) if exponent < 709 else math.inf
+    except OverflowError:
+        return math.inf
+    return value * (1 + 1e-14)
 
 
 def _as_slice(columns: list[int], size: int) -> slice | np.ndarray:
@@ -513,6 +534,18 @@ class BlockMotion:
         if self.failure is not None:
             return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
         weights = self._order(order)
+        return self._values(weights, t), self._bounds(weights, t)
+
+    def values(self, t: np.ndarray, lo: np.ndarray | None, order: int) -> np.ndarray:
+        """The values of :meth:`evaluate` alone (zeros for a failed decomposition, whose
+        :meth:`bound_until` is infinite)."""
+        if self.failure is not None:
+            return np.zeros((self.n, t.size))
+        return self._values(self._order(order), t)
+
+    def _values(self, weights: _Order, t: np.ndarray) -> np.ndarray:
+        """Re Σ_j g_j e^{λ_j t} over the 1 x 1 blocks plus the 2 x 2 blocks' terms."""
+        n = self.n
         if self.rates.size:  # Re Σ_j g_j e^{λ_j t}, summed in the order of j for every time
             terms = (weights.g[:, :, None] * np.exp(self.rates[:, None] * t)).real
             if self.rates.size < 8:  # numpy adds fewer than 8 terms in order
@@ -525,58 +558,65 @@ class BlockMotion:
             values = np.zeros((n, t.size))
         for block, g_C, g_S, _ in weights.doubles:
             values += self._double(block, g_C, g_S, t)
-        return values, self._bounds(weights, t)
+        return values
 
     def bound_until(self, t_max: float) -> float:
         """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
         [0, t_max], from the decomposition's constants alone (no per-time work: a few
         float operations where :meth:`bounds` makes a dozen NumPy calls or more).
 
-        Each per-time factor of :meth:`_bounds` is nondecreasing or bounded by its value at
-        0 or t_max (e^{gt} ≤ max(1, e^{g·t_max})). Without 2 x 2 blocks each row's weights
-        are bounded by norms (‖L_i‖ ≤ ‖X‖_F, Σ_j w_j|L_ij||c_j| ≤ 2‖L_i‖‖c‖); with them the
-        weights of x themselves are read (:meth:`_blocks_until`). Inf for a failed
-        decomposition or where an exponential would overflow.
+        Every term of :meth:`_bounds` is a coordinate's weight times t^k·e^{rt} times
+        constants, with the factors that vary otherwise (q(t), the integral's factor) at
+        their largest, t_max; each t^k·e^{rt} is replaced by its maximum on [0, t_max]
+        (:func:`peak`: inside the interval for a decaying rate), so a decaying motion's
+        bound is that of its worst time, not of t_max with the decay left out. Inf for a
+        failed decomposition or where an exponential would overflow.
         """
         if self.failure is not None or not t_max < 1e300:
             return math.inf
-        if self.doubles:
-            return self._blocks_until(t_max) * (1 + 1e-12)
-        exponent = max(self.growth + self.phi, 0.0) * t_max
-        if exponent > 700:
+        found = self._blocks_until(t_max) if self.doubles else self._plain_until(t_max)
+        return math.inf if math.isnan(found) else found * (1 + 1e-12)  # the sum's rounding
+
+    def _plain_until(self, T: float) -> float:
+        """:meth:`bound_until` without 2 x 2 blocks: per coordinate i, Σ_k W_ik·(s_k·peak(r_k,
+        1) + o_k·peak(r_k, 0)) over :meth:`_plain`'s terms W_ik·e^{r_k t}(s_k t + o_k)."""
+        weights = self._order(0)
+        rates, slopes, offsets, per_row = weights.plain or self._plain(weights)
+        peaks = [s * peak(r, 1, T) + o * peak(r, 0, T) for r, s, o
+                 in zip(rates.ravel().tolist(), slopes.ravel().tolist(), offsets.ravel().tolist())]
+        if not all(map(math.isfinite, peaks)):
             return math.inf
-        G = math.exp(exponent) * _SAFETY
-        decay = math.exp(max(self.growth, 0.0) * t_max)
-        shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * t_max
-        rows, size = self.X_norm, 2 * self.X_norm * self.c_norm
-        found = rows * G * (self.phi * self.c_norm * t_max + self.rho0) \
-            + size * (decay * shift * _SAFETY + 1e-300 * (1 + t_max))
-        return found * (1 + 1e-12)  # this sum's own rounding
+        return max(sum(w * p for w, p in zip(row, peaks)) for row in per_row[:, :, 0].tolist())
 
     def _blocks_until(self, T: float) -> float:
-        """:meth:`bound_until` with 2 x 2 blocks: :meth:`_bounds`' terms for each coordinate
-        at t = T, with e^{gt} at its largest on [0, T] (the weights of x, which
-        :meth:`evaluate` uses too, read as floats)."""
+        """:meth:`bound_until` with 2 x 2 blocks: :meth:`_bounds`' terms per coordinate with
+        e^{q(t)φt} ≤ e^{q(T)φt}, q(t) and the integral bounded by polynomials in t (or by K),
+        cosh(st) ≤ (e^{st} + e^{−st})/2, and each t^k·e^{rt} at its maximum on [0, T] (the weights of x, which :meth:`evaluate` uses
+        too, read as floats)."""
         K, nu = self._growth_constants
         largest = self._largest_root
-        q = min(K, 1 + nu * T)
-        exponent = max(self.growth, 0.0) * T + q * self.phi * T
-        if exponent > 700 or largest * T > 700:
+        g, top = self.growth, self.growth + min(K, 1 + nu * T) * self.phi
+        P = [peak(top, k, T) for k in range(4)]
+        # q(t) ≤ 1 + νt and ≤ K; the integral ≤ t(1 + νt + (νt)²/6) and ≤ t·K²
+        integral = P[1] + nu * P[2] + nu * nu / 6 * P[3]
+        q = P[0] + nu * P[1]
+        if K < math.inf:
+            integral, q = min(integral, K * K * P[1]), min(q, K * P[0])
+        main = self.phi * self.c_norm * integral + self.rho0 * q
+        # rounding(t) = e^{gt}(a + b·t): the shift, the libm and √d's argument (_bounds)
+        a, b = (2 * self.n + 12) * U, (3.03 * self.speed + 2 * largest) * U
+        near = a * peak(g, 0, T) + b * peak(g, 1, T)
+        far = a * peak(g, 1, T) + b * peak(g, 2, T)
+        squared = peak(g, 2, T) / 2
+        cubed = (peak(g + largest, 3, T) + peak(g - largest, 3, T)) / 8
+        if not all(map(math.isfinite, (main, near, far, squared, cubed))):
             return math.inf
-        decay = math.exp(max(self.growth, 0.0) * T)
-        spread = math.exp(exponent)
-        integral = T * min(q * q, 1 + nu * T + (nu * T) ** 2 / 6)
-        shift = (2 * self.n + 8) * U + (3.03 * U * self.speed) * T
-        rounding = decay * (shift + (2 * largest * T + 4) * U)
-        squared = decay * T * T
-        main = spread * (self.phi * self.c_norm * integral + q * self.rho0)
         w = self._order(0)
         columns = zip(w.rows.tolist(), (w.single_size + w.double_C).tolist(),
                       w.double_S.tolist(), w.d_C.tolist(), w.d_S.tolist(), w.size.tolist())
-        return max((rows * main + near * rounding + far * rounding * T + d_C * squared / 2
-                    + d_S * squared * T * math.cosh(largest * T) / 4) * _SAFETY
+        return max((rows * main + one * near + two * far + d_C * squared + d_S * cubed) * _SAFETY
                    + size * 1e-300 * (1 + T)
-                   for rows, near, far, d_C, d_S, size in columns)
+                   for rows, one, two, d_C, d_S, size in columns)
 
     def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
         """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""

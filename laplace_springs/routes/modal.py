@@ -158,6 +158,13 @@ class ModalSolution(Solution):
             bounds = bounds + 2 * np.abs(times.lo)[None, :] * slope
         return values, bounds
 
+    def _covered_values(self, times: Times, most: float) -> np.ndarray | None:
+        motion = self.motion
+        if not hasattr(motion, "bound_until") or not motion.bound_until(times.span[1]) <= most:
+            return None
+        values: np.ndarray = motion.values(times, 0)
+        return values
+
     def _escalate(self, times: Times, order: int, target: float) -> tuple[np.ndarray, np.ndarray]:
         if self._certified is not None:
             return certified_values(self._certified, times, order, target, self._floor(order))

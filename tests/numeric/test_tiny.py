@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from laplace_springs import Scene
+from laplace_springs import Scene, solve
 from laplace_springs.bench.reference import reference_motion_arb
 from laplace_springs.model.errors import SceneError
 from laplace_springs.numeric.times import as_times
@@ -297,6 +297,34 @@ def test_the_bound_until_a_time_of_one_mass_covers_its_bounds_and_errors(
     values, _ = motion.evaluate(as_times(times), 0)
     errors = _errors(values, reference_motion_arb(scene, times, digits=30))
     assert errors.max() <= motion.bound_until(50.0)
+
+
+@pytest.mark.parametrize("name", ["exceptional point", "critical pair", "seed example 2",
+                                  "damped chain of three, unequal masses"])
+def test_the_bound_until_a_time_of_a_decaying_motion_is_that_of_its_worst_time(name: str) -> None:
+    """Where the motion decays, ``bound_until`` is within 2x of the largest bound on a dense
+    grid: each t^k·e^{rt} of the bound taken at its peak, not at t_max with the decay left
+    out (which gave 100x, and sent evaluations without bounds through per-time bounds)."""
+    motion = tiny_motion(SEVERAL[name][0])
+    for t_max in (10.0, 60.0):
+        envelope = motion.bound_until(t_max)
+        largest = motion.largest_bound(np.linspace(0.0, t_max, 6001))
+        assert largest <= envelope <= 2 * largest
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_values_without_bounds_are_the_same_bits(seed: int) -> None:
+    """``evaluate(times)`` (no bounds asked) forms the values alone where the engine's
+    ``bound_until`` meets the target: they are the values ``return_error=True`` gives, bit
+    for bit, and within the target of the arb reference."""
+    scene = _random_scene(random.Random(seed))
+    times = [0.0, 0.25, 1.0, 3.5, "1/3"]
+    sol = solve(scene)
+    alone = sol.evaluate(times)
+    values, bounds = sol.evaluate(times, return_error=True)
+    assert np.array_equal(alone, values)
+    errors = _errors(alone, reference_motion_arb(scene, times, digits=30))
+    assert np.all(errors <= bounds)
 
 
 # ----------------------------------------------------------------------------- contract details

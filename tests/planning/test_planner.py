@@ -257,6 +257,7 @@ def test_values_no_engine_can_bound_are_refused_not_returned():
         return np.full((3, len(T)), 1e3), np.full((3, len(T)), 1e5)
 
     sol.__dict__["_evaluators"] = dict.fromkeys(sol.plan([1.0]).chain, hopeless)
+    sol.motion.bound_until = lambda t_max: np.inf  # its own bound as hopeless: no values alone
     with pytest.raises(ls.LimitError, match="Limits.refusal_bound"):
         sol.evaluate([1.0])
     with pytest.raises(ls.LimitError):
