@@ -72,8 +72,8 @@ def rational_entries(scene: Scene, name: str) -> dict[tuple[int, int], Any] | No
 def _read_rational(scene: Scene, name: str) -> dict[tuple[int, int], Any] | None:
     matrix = getattr(scene, name)
     rep = getattr(matrix, "_rep", None)
-    domain = str(getattr(rep, "domain", ""))
-    if rep is not None and domain in ("ZZ", "QQ"):
+    domain = getattr(rep, "domain", None)
+    if domain is not None and (domain.is_ZZ or domain.is_QQ):
         try:
             rows = rep.to_sdm()
             return {(i, j): fmpq(value) for i, row in rows.items()
