@@ -162,7 +162,7 @@ def clear_caches() -> None:
     per scene (``numeric.first_order.scene_cache``: entries, facts, engine data), so every
     timed run of ours starts from the Scene as built, as a first call does."""
     clear_cache()
-    first_order._ENTRIES.clear()  # the finalizers pop with a default: safe to empty
+    first_order._ENTRIES.clear()  # the callbacks pop with a default: safe to empty
     for name, module in list(sys.modules.items()):
         if name.startswith("laplace_springs") and module is not None:
             for value in list(vars(module).values()):

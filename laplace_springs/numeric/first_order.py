@@ -30,13 +30,13 @@ from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 
-__all__ = ["scene_entries", "rational_entries", "scene_cache", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
+__all__ = ["scene_entries", "rational_entries", "rational_matrices", "scene_cache", "check_numeric_size", "symbolic_entries", "float_matrix", "scene_arrays",
            "massless_nodes", "first_order_system", "RigidSplit", "rigid_split", "is_rational",
            "has_first_order_form"]
 
 
 
-_ENTRIES: dict[int, dict[str, Any]] = {}
+_ENTRIES: dict[int, tuple[dict[str, Any], Any]] = {}
 
 
 def scene_entries(scene: Scene, name: str) -> dict[tuple[int, int], Any]:
@@ -62,22 +62,40 @@ def rational_entries(scene: Scene, name: str) -> dict[tuple[int, int], Any] | No
     >>> rational_entries(Scene.from_matrices(M=[[2]], K=[["8/3"]], x0=[1], v0=[0]), "K")
     {(0, 0): 8/3}
     """
+    return rational_matrices(scene, (name,))[0]
+
+
+def rational_matrices(scene: Scene, names: tuple[str, ...]) -> list[dict[tuple[int, int], Any] | None]:
+    """:func:`rational_entries` of several of the scene's matrices (one look-up of its
+    table).
+
+    >>> rational_matrices(Scene.from_matrices(M=[[2]], K=[["8/3"]], x0=[1], v0=[0]), ("M", "K"))
+    [{(0, 0): 2}, {(0, 0): 8/3}]
+    """
     table = scene_cache(scene)
-    key = "rational " + name
-    if key not in table:
-        table[key] = _read_rational(scene, name)
-    return table[key]
+    out = []
+    for name in names:
+        key = _RATIONAL_KEYS.get(name) or "rational " + name
+        found = table.get(key, table)  # the table itself: not read yet (None is an answer)
+        if found is table:
+            found = table[key] = _read_rational(scene, name)
+        out.append(found)
+    return out
+
+
+_RATIONAL_KEYS = {name: "rational " + name for name in ("M", "C", "K", "x0", "v0")}
 
 
 def _read_rational(scene: Scene, name: str) -> dict[tuple[int, int], Any] | None:
     matrix = getattr(scene, name)
     rep = getattr(matrix, "_rep", None)
     domain = getattr(rep, "domain", None)
-    if domain is not None and (domain.is_ZZ or domain.is_QQ):
+    if rep is not None and domain is not None and (domain.is_ZZ or domain.is_QQ):
         try:
             rows = rep.to_sdm()
-            return {(i, j): fmpq(value) for i, row in rows.items()
-                    for j, value in row.items() if value}
+            # SymPy's flint ground types hold fmpq (QQ) or fmpz (ZZ) already
+            return {(i, j): value if value.__class__ is fmpq else fmpq(value)
+                    for i, row in rows.items() for j, value in row.items() if value}
         except (AttributeError, TypeError, ValueError):  # pragma: no cover - another SymPy layout
             pass
     out = {}
@@ -96,11 +114,17 @@ def scene_cache(scene: Scene) -> dict[str, Any]:
     True
     """
     key = id(scene)
-    table = _ENTRIES.get(key)
-    if table is None:
-        table = _ENTRIES[key] = {}
-        weakref.finalize(scene, _ENTRIES.pop, key, None)
-    return table
+    found = _ENTRIES.get(key)
+    if found is None:  # the table, and a reference whose callback drops it with the scene
+        found = _ENTRIES[key] = ({}, weakref.ref(scene, _dropper(key)))
+    return found[0]
+
+
+def _dropper(key: int) -> Any:
+    """The callback that drops the table of the scene ``key`` when the scene is collected."""
+    def drop(_: Any) -> None:
+        _ENTRIES.pop(key, None)
+    return drop
 
 
 def symbolic_entries(scene: Scene) -> list[str]:

@@ -64,7 +64,7 @@ from ..kernels.dd import U, two_prod
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
-from .first_order import rational_entries, scene_cache
+from .first_order import rational_matrices, scene_cache
 from .times import Times, as_times  # noqa: F401  (doctests)
 from .tiny_blocks import BlockMotion, peak
 
@@ -171,7 +171,7 @@ def _read(scene: Scene) -> TinyData | str:
         return f"coordinates {n:,} > Limits.tiny_max_coordinates = {most:,}"
     if scene.sampled is not None or (scene.forcing is not None and scene.is_forced):
         return "the scene is forced"
-    read = [rational_entries(scene, name) for name in ("M", "C", "K", "x0", "v0")]
+    read = rational_matrices(scene, ("M", "C", "K", "x0", "v0"))
     found = [entries for entries in read if entries is not None]
     if len(found) < len(read):
         return "needs rational entries (numbers, no symbols)"

@@ -600,7 +600,7 @@ class BlockMotion:
         # q(t) ≤ 1 + νt and ≤ K; the integral ≤ t(1 + νt + (νt)²/6) and ≤ t·K²
         integral = P[1] + nu * P[2] + nu * nu / 6 * P[3]
         q = P[0] + nu * P[1]
-        if K < math.inf:
+        if math.isfinite(K):
             integral, q = min(integral, K * K * P[1]), min(q, K * P[0])
         main = self.phi * self.c_norm * integral + self.rho0 * q
         # rounding(t) = e^{gt}(a + b·t): the shift, the libm and √d's argument (_bounds)
