@@ -29,6 +29,7 @@ from ..model.supports import is_support, support_columns
 from ..model.symbols import lam
 from .compile import compile_refusal, compile_scene, parameter_rows
 from .parameters import check_flat, parameter_sets
+from .reduce import check_increasing
 from .run import plan_sweep, sweep
 from .validate import validate_sets
 
@@ -37,10 +38,13 @@ __all__ = ["peak_amplitude", "rms_amplitude", "settling_time", "steady_state_amp
            "peak_support_force"]
 
 
-def _values(values: Any) -> np.ndarray:
+def _values(values: Any, what: str) -> np.ndarray:
     array = np.asarray(getattr(values, "values", values), dtype=float)
     if array.ndim < 1:
-        raise SceneError(f"expected sweep values (sets, coordinates, times), got {shown(values)}")
+        raise SceneError(f"{what}: expected sweep values (sets, coordinates, times), got "
+                         f"{shown(values)}")
+    if array.shape[-1] == 0:
+        raise SceneError(f"{what}: expected values at one time or more, got shape {array.shape}")
     return array
 
 
@@ -52,7 +56,7 @@ def peak_amplitude(values: Any) -> np.ndarray:
     >>> peak_amplitude(np.array([[[0.5, -2.0, 1.0]]])).tolist()
     [[2.0]]
     """
-    return np.max(np.abs(_values(values)), axis=-1)
+    return np.max(np.abs(_values(values, "peak_amplitude")), axis=-1)
 
 
 def rms_amplitude(values: Any) -> np.ndarray:
@@ -64,7 +68,7 @@ def rms_amplitude(values: Any) -> np.ndarray:
     >>> rms_amplitude(np.array([[[3.0, -4.0, 0.0, 0.0]]])).tolist()
     [[2.5]]
     """
-    array = _values(values)
+    array = _values(values, "rms_amplitude")
     return np.sqrt(np.mean(array**2, axis=-1))
 
 
@@ -72,7 +76,8 @@ def settling_time(values: Any, times: Any, tolerance: float) -> np.ndarray:
     """The last time at which |x_i| exceeds ``tolerance``: shape (P, n).
 
     0 where |x_i| never exceeds it; ``inf`` where it still does at the last time (not
-    settled within the times given). Resolution is that of ``times``.
+    settled within the times given); NaN where a value is NaN (a set the sweep could not
+    serve). Resolution is that of ``times``, which must increase.
 
     Examples
     --------
@@ -80,17 +85,19 @@ def settling_time(values: Any, times: Any, tolerance: float) -> np.ndarray:
     >>> settling_time(np.array([[[1.0, 0.5, 0.05, 0.01], [0.0, 0.0, 0.0, 0.2]]]), t, 0.1).tolist()
     [[1.0, inf]]
     """
-    array = _values(values)
+    array = _values(values, "settling_time")
     check_flat(times, "settling_time: times")
     grid = np.atleast_1d(np.asarray(times, dtype=float))
     if grid.size != array.shape[-1]:
         raise SceneError(f"settling_time: {grid.size} times for values with {array.shape[-1]} times")
     if not (isinstance(tolerance, (int, float)) and tolerance >= 0):
         raise SceneError(f"settling_time: tolerance must be a nonnegative number, got {shown(tolerance)}")
+    check_increasing(grid, "settling_time")
     outside = np.abs(array) > tolerance
     last = grid.size - 1 - np.argmax(outside[..., ::-1], axis=-1)
     result = np.where(outside.any(axis=-1), grid[last], 0.0)
-    return np.where(outside[..., -1], np.inf, result)
+    result = np.where(outside[..., -1], np.inf, result)
+    return np.where(np.isnan(array).any(axis=-1), np.nan, result)
 
 
 def steady_state_amplitudes(scene: Scene, values: Mapping[Any, Any], force: Sequence[Any],

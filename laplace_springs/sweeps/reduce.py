@@ -27,7 +27,7 @@ import numpy as np
 from ..model.errors import SceneError
 from ..model.numbers import shown
 
-__all__ = ["QUANTITIES", "quantity_spec", "reduce_chunk"]
+__all__ = ["check_increasing", "QUANTITIES", "quantity_spec", "reduce_chunk"]
 
 Reducer = Callable[[np.ndarray, np.ndarray, np.ndarray, Any], tuple[np.ndarray, np.ndarray]]
 
@@ -72,6 +72,21 @@ QUANTITIES: dict[str, tuple[Reducer, bool]] = {
     "final": (_final, False),
     "settling_time": (_settling, True),
 }
+
+
+def check_increasing(times: np.ndarray, what: str) -> None:
+    """Refuse times that do not increase (the settling time reads them in order), naming
+    the first that does not.
+
+    >>> check_increasing(np.array([0.0, 2.0, 1.0]), "settling_time")
+    Traceback (most recent call last):
+    ...
+    laplace_springs.model.errors.SceneError: settling_time: times must increase, but times[2] = 1.0 follows times[1] = 2.0
+    """
+    if (steps := np.flatnonzero(~(np.diff(times) > 0))).size:  # a NaN time fails too
+        i = int(steps[0]) + 1
+        raise SceneError(f"{what}: times must increase, but times[{i}] = {float(times[i])!r} "
+                         f"follows times[{i - 1}] = {float(times[i - 1])!r}")
 
 
 def quantity_spec(quantities: Any) -> dict[str, Any]:

@@ -22,7 +22,7 @@ from ..policy import check_target
 from .distributed import run_on_client
 from .parameters import check_flat, parameter_sets
 from .paths import SweepPlan, chunk_bounds, set_costs, sweep_plan
-from .reduce import quantity_spec
+from .reduce import check_increasing, quantity_spec
 from .stores import open_store
 from .tasks import TaskResult, run_chunk, writes_itself
 from .validate import validate_sets
@@ -370,6 +370,8 @@ def sweep(scene: Scene, values: Mapping[Any, Any], times: Any, *, outputs: Any =
     validate_sets(scene, plan.entries, sets)
     check_flat(times, "sweep: times", "; pass t.ravel() and reshape the result's last axis to t.shape")
     grid_times = as_times(times).hi
+    if spec is not None and "settling_time" in spec:
+        check_increasing(grid_times, "sweep: settling_time")
     P, shape = len(sets), (len(chosen), grid_times.size)
     _check_memory(P, shape, keep=(spec is None and out is None, return_error and spec is None and error_out is None))
     stores = (None if out is None else open_store(out, (P, *shape), "out"),

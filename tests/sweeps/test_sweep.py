@@ -162,6 +162,26 @@ def test_derived_quantities(grounded):
                        [2.0, 5.0], rtol=1e-12)
 
 
+def test_derived_quantities_refuse_what_they_cannot_read(grounded):
+    """No times, times that do not increase: a SceneError naming the function and the entry
+    (numpy's zero-size reduction error, or a settling time read out of order, before)."""
+    with pytest.raises(SceneError, match="peak_amplitude: expected values at one time"):
+        peak_amplitude(np.zeros((2, 0)))
+    x = np.array([[[1.0, 0.5, 0.01]]])
+    with pytest.raises(SceneError, match=r"times\[1\] = 1.0 follows times\[0\] = 2.0"):
+        settling_time(x, [2.0, 1.0, 0.0], 0.1)
+    with pytest.raises(SceneError, match="settling_time: times must increase"):
+        sweep(grounded, {"k1": [1.0], "k2": [1.0], "c": [0.5]}, [3.0, 1.0, 2.0],
+              quantities={"settling_time": 0.05})
+
+
+def test_a_settling_time_through_a_nan_value_is_nan():
+    """A NaN value (a set the sweep could not serve) is not read as settled."""
+    x = np.array([[[1.0, np.nan, 0.0], [1.0, 0.0, 0.0]]])
+    settled = settling_time(x, [0.0, 1.0, 2.0], 0.1)
+    assert np.isnan(settled[0, 0]) and settled[0, 1] == 0.0
+
+
 def test_sampling_and_summary_are_reproducible():
     a = sample_parameters({"k": ("normal", 1, 0.05), "c": ("uniform", 0.1, 0.2),
                            "m": ("lognormal", 1, 0.1), "x": 3}, 2000, seed=5)
