@@ -9,6 +9,7 @@ x(0) = x0, x'(0) = v0:
 - SymPy's: ``Derivative(x1(t), t, 2)``, ``x1(t).diff(t)``, ``diff(x1(t), t, 2)``, and SymPy
   objects themselves (``Eq(m*x(t).diff(t, 2) + k*x(t), 0)``, ``Eq(x(0), 1)``,
   ``Eq(Subs(Derivative(x(t), t), t, 0), 0)``);
+- Newton's dots: ``ẍ + 0.2ẋ + 4x = 0``, ``ẋ(0) = 2``;
 - Mathematica's, as on the seed page: ``m1*x''[t] + (mu1 + mu2)*x'[t] - mu2*y'[t] == 0``,
   ``x[0] == d1``, ``x'[0] == v1``.
 
@@ -55,6 +56,7 @@ from __future__ import annotations
 
 import math
 import re
+import unicodedata
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -314,10 +316,48 @@ def _without_commands(text: str) -> str:
     return _LIST_ASSIGNMENT.sub("{", "".join(out))
 
 
+def _plain(text: str) -> str:
+    """The text as the statements are read: comments removed, Newton's dots written as
+    primes, Mathematica's named characters as names and its commands dropped."""
+    return _without_commands(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(),
+                                                   _dots_as_primes(_COMMENT.sub("", text))))
+
+
+#: Combining dot above and diaeresis (Newton's ẋ and ẍ, decomposed): the primes they stand for.
+_DOTS = {"\u0307": "'", "\u0308": "''"}
+_DOTTED = re.compile("[A-Za-z][A-Za-z0-9_\u0307\u0308]*")
+
+
+def _dots_as_primes(text: str) -> str:
+    """Newton's notation as primes: ``ẍ + 0.2ẋ + 4x = 0`` is ``x'' + 0.2x' + 4x = 0``, and
+    ``ẋ1(0) = 2`` is ``x1'(0) = 2`` (the dots of a name, on any of its letters, follow it).
+
+    >>> _dots_as_primes("ẍ1 + 0.2*ẋ1 + 4*x1 = 0; ẋ1(0) = 2")
+    "x1'' + 0.2*x1' + 4*x1 = 0; x1'(0) = 2"
+    """
+    decomposed = unicodedata.normalize("NFD", text)
+    if "\u0307" not in decomposed and "\u0308" not in decomposed:
+        return text
+
+    def primed(match: re.Match[str]) -> str:
+        name = match.group(0)
+        if name[1:2] not in _DOTS and any(c in _DOTS for c in name):
+            written = unicodedata.normalize("NFC", name)
+            head = unicodedata.normalize("NFC", name[:next(i for i, c in enumerate(name) if c in _DOTS) - 1])
+            raise SceneError(f"{written!r}: Newton's dots stand over a name's first letter "
+                             f"(ẋ1 is x1'); a product needs '*', e.g. {head}*"
+                             f"{written[len(head):]}")
+        primes = "".join(_DOTS.get(mark, "") for mark in name)
+        return "".join(c for c in name if c not in _DOTS) + primes
+
+    return unicodedata.normalize("NFC", _DOTTED.sub(primed, decomposed))
+
+
 def _text_statements(text: str) -> tuple[list[str], list[str]]:
     """(declared names, statements) of a text: comments removed, declarations apart,
-    Mathematica's named characters written as names (``\\[Mu]1`` is ``mu1``)."""
-    text = _without_commands(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(), _COMMENT.sub("", text)))
+    Newton's dots as primes, Mathematica's named characters written as names
+    (``\\[Mu]1`` is ``mu1``)."""
+    text = _plain(text)
     declared: list[str] = []
     lines = []
     for line in text.splitlines():
@@ -493,8 +533,7 @@ def _unknown_names(text: str, excluded: Iterable[str]) -> list[str]:
     """Names written as functions (x1'', x1(t), x[t]) that are not functions or values."""
     skip = {*ALLOWED_FUNCTIONS, *PERIODIC_FUNCTIONS, "Derivative", "diff", "t", *excluded}
     found: list[str] = []
-    for match in _CALLED.finditer(_without_commands(_MATHEMATICA_NAME.sub(lambda m: m.group(1).lower(),
-                                                                          _COMMENT.sub("", text)))):
+    for match in _CALLED.finditer(_plain(text)):
         name = match.group(1)
         if name not in skip and name not in found:
             found.append(name)

@@ -87,6 +87,27 @@ def test_example_2_in_the_seeds_normalised_form_gives_the_same_motion():
     assert ls.solve(scene).evaluate(times) == pytest.approx(ls.solve(bundled).evaluate(times), abs=1e-13)
 
 
+def test_example_2_with_newtons_dots_gives_the_bundled_scene():
+    """The seed's ẍ + Bẋ + Ax = 0 as people write it: dots (precomposed ẍ and ẋ, or a letter
+    with a combining mark) read as primes, on names with digits too."""
+    scene = ls.Scene.from_equations("""
+        ẍ1 + 0.2*ẋ1 + 3*x1 - x2 = 0
+        x\u0308\u0032 + 0.2*x\u0307\u0032 - 2*x1 + 2*x2 = 0
+        x1(0) = 1; x2(0) = 0; ẋ1(0) = 0; ẋ2(0) = 0""")
+    assert scene.normalized() == ls.load_scene("vertical-pair-damped").normalized()
+    symbolic = ls.Scene.from_equations("ẍ + B*ẋ + A*x = 0", x0=[1], v0=[0],
+                                       parameters=["A", "B"])
+    A, B = sp.symbols("A B", positive=True)
+    assert sp.Matrix([[1]]) == symbolic.M
+    assert sp.Matrix([[B]]) == symbolic.C
+    assert sp.Matrix([[A]]) == symbolic.K
+
+
+def test_a_dot_inside_a_name_asks_for_the_product():
+    with pytest.raises(ls.SceneError, match=r"a product needs '\*', e.g. B\*ẋ"):
+        ls.Scene.from_equations("ẍ + Bẋ + A*x = 0", x0=[1], v0=[0], parameters=["A", "B"])
+
+
 def test_sympy_objects_with_plain_symbols():
     time = sp.Symbol("t")  # a plain t, as SymPy users write it
     x, y = sp.Function("x"), sp.Function("y")
