@@ -343,10 +343,12 @@ def _dots_as_primes(text: str) -> str:
         name = match.group(0)
         if name[1:2] not in _DOTS and any(c in _DOTS for c in name):
             written = unicodedata.normalize("NFC", name)
-            head = unicodedata.normalize("NFC", name[:next(i for i, c in enumerate(name) if c in _DOTS) - 1])
+            marked = next(i for i, c in enumerate(name) if c in _DOTS) - 1
+            head = name[:marked]
+            product = f"; a product needs '*', e.g. {head}*{written[len(head):]}" \
+                if name[marked].isalpha() else ""
             raise SceneError(f"{written!r}: Newton's dots stand over a name's first letter "
-                             f"(ẋ1 is x1'); a product needs '*', e.g. {head}*"
-                             f"{written[len(head):]}")
+                             f"(ẋ1 is x1'){product}")
         primes = "".join(_DOTS.get(mark, "") for mark in name)
         return "".join(c for c in name if c not in _DOTS) + primes
 
