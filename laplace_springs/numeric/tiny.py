@@ -531,10 +531,11 @@ class _Scalar:
 
     def bound_until(self, t_max: float) -> float:
         """An upper bound of every bound :meth:`evaluate` gives for x (order 0) at times in
-        [0, t_max], in float arithmetic: each branch's bound with every per-time factor at
-        its largest over [0, t_max] (the error terms ε(t), min(t, 1/ω), t, cosh and
-        sinh(x)/x are nondecreasing; each exponential e^{rt} is at most e^{max(r, 0)·t_max});
-        inf where an exponential would overflow.
+        [0, t_max], in float arithmetic: each branch's bound written as a sum of
+        t^k·e^{rt} times constants (cosh and sinh(x)/x at their largest argument, min(t, 1/ω)
+        by either side), each t^k·e^{rt} at its peak on [0, t_max]
+        (:func:`~laplace_springs.numeric.tiny_blocks.peak`: for a decaying motion, that of
+        its worst time); inf where an exponential would overflow.
 
         >>> data = tiny_data(Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[1], v0=[0]))
         >>> scalar = _Scalar(data)
