@@ -9,7 +9,7 @@ x(0) = x0, x'(0) = v0:
 - SymPy's: ``Derivative(x1(t), t, 2)``, ``x1(t).diff(t)``, ``diff(x1(t), t, 2)``, and SymPy
   objects themselves (``Eq(m*x(t).diff(t, 2) + k*x(t), 0)``, ``Eq(x(0), 1)``,
   ``Eq(Subs(Derivative(x(t), t), t, 0), 0)``);
-- Newton's dots: ``ẍ + 0.2ẋ + 4x = 0``, ``ẋ(0) = 2``;
+- Newton's dots: ``ẍ + 0.2*ẋ + 4*x = 0``, ``ẋ(0) = 2`` (a product needs ``*``: ``B*ẋ``);
 - Mathematica's, as on the seed page: ``m1*x''[t] + (mu1 + mu2)*x'[t] - mu2*y'[t] == 0``,
   ``x[0] == d1``, ``x'[0] == v1``.
 
@@ -329,8 +329,9 @@ _DOTTED = re.compile("[A-Za-z][A-Za-z0-9_\u0307\u0308]*")
 
 
 def _dots_as_primes(text: str) -> str:
-    """Newton's notation as primes: ``ẍ + 0.2ẋ + 4x = 0`` is ``x'' + 0.2x' + 4x = 0``, and
-    ``ẋ1(0) = 2`` is ``x1'(0) = 2`` (the dots of a name, on any of its letters, follow it).
+    """Newton's notation as primes: ``ẍ + 0.2*ẋ`` is ``x'' + 0.2*x'``, and ``ẋ1(0) = 2`` is
+    ``x1'(0) = 2`` (the dots stand over a name's first letter and follow the name; a dot
+    over a later letter, ``Bẋ``, is a SceneError asking for the product ``B*ẋ``).
 
     >>> _dots_as_primes("ẍ1 + 0.2*ẋ1 + 4*x1 = 0; ẋ1(0) = 2")
     "x1'' + 0.2*x1' + 4*x1 = 0; x1'(0) = 2"
