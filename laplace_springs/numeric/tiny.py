@@ -67,6 +67,7 @@ from ..model.scene import Scene
 from .first_order import rational_matrices, scene_cache
 from .times import Times, as_times  # noqa: F401  (doctests)
 from .tiny_blocks import BlockMotion, peak
+from .tiny_modes import classical_modes
 
 __all__ = ["TinyMotion", "TinyData", "tiny_refusal", "tiny_cost", "tiny_motion", "tiny_data"]
 
@@ -346,8 +347,10 @@ class TinyMotion:
                 self._form = _Scalar(data)
             else:
                 A, B = data.normalized()
-                self._form = BlockMotion(self.n, A, B, data.x0, data.v0,
-                                         floats=data.normalized_floats)
+                floats = data.normalized_floats
+                modes = classical_modes(self.n, data.M, data.K, data.C, floats, (A, B))
+                self._form = BlockMotion(self.n, A, B, data.x0, data.v0, floats=floats,
+                                         modes=modes)
         return self._form
 
     def evaluate(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:

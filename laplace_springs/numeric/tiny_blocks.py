@@ -236,6 +236,18 @@ class _Block:
         self.root = cmath.sqrt(d)
         self.growth = self.mu.real + abs(self.root.real)
 
+    @classmethod
+    def of(cls, columns: tuple[int, int], mu: complex, entries: tuple[complex, complex, complex],
+           *, real: bool = False) -> _Block:
+        """The block μI + N with N = [[a, b01], [b10, −a]] (``entries`` (a, b01, b10)):
+        d = a² + b01·b10 with the bound of its rounding."""
+        a, b01, b10 = entries
+        d = a * a + b01 * b10
+        size = abs(a) ** 2 + abs(b01 * b10)
+        # each complex product and the sum: ≤ 2√2u + 2u of the terms; √d's rounding (≤ 2u
+        # relative, so root² is d within 4u|d|): 8u of the terms and 4u of |d| in all
+        return cls(columns, mu, entries, d, 8 * U * size + 4 * U * abs(d), real=real)
+
     def conjugate(self, columns: tuple[int, int]) -> _Block:
         """The conjugate block on ``columns`` (a lower twin: skipped in evaluation)."""
         a, b01, b10 = self.entries
@@ -256,6 +268,11 @@ class BlockMotion:
         The initial data rounded to float64.
     floats : tuple of two lists, optional
         A's and B's values rounded to float64, in their order (read from them otherwise).
+    modes : object, optional
+        An object whose ``layout(motion)`` sets the basis instead of ``numpy.linalg.eig``
+        (:class:`~laplace_springs.numeric.tiny_modes.ClassicalModes`): it returns (w, X)
+        and sets ``columns``, ``weights``, ``rates``, ``real_columns``, ``mirrors`` and
+        ``doubles`` as :meth:`_layout` does. The residual bound checks it like any basis.
 
     Attributes
     ----------
@@ -269,14 +286,18 @@ class BlockMotion:
 
     def __init__(self, n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int], Any],
                  x0: np.ndarray, v0: np.ndarray, *,
-                 floats: tuple[list[float], list[float]] | None = None) -> None:
+                 floats: tuple[list[float], list[float]] | None = None,
+                 modes: Any = None) -> None:
         self.failure: str | None = None
         self.n = n
         self._square: np.ndarray | None = None  # Z², for the pairs of 2 x 2 blocks
         self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B, floats)
         start = [*x0.tolist(), *[v / self.sigma for v in v0.tolist()]]
         self.y0, self.y0_norm = np.array(start), math.hypot(*start)
-        w, V = _eig(self.Z)
+        if modes is not None:  # a classically damped scene's modes lay out the basis
+            w, X = modes.layout(self)
+        else:
+            w, V = _eig(self.Z)
         self.poles = w
         listed = [abs(pole) for pole in w.tolist()]
         #: ‖diag(w)‖_F (NaN or inf when an eigenvalue is not finite)
@@ -286,6 +307,9 @@ class BlockMotion:
             self.failure = "the eigenvalues are not finite (LAPACK did not converge)"
             return
         self.radius = max(listed)
+        if modes is not None:
+            self._finish(w, X, None)
+            return
         inverse = _inv(V)
         Y, Y_norm = inverse if inverse is not None else (None, math.inf)
         X = self._layout(w, V, Y, Y_norm)
@@ -426,12 +450,7 @@ class BlockMotion:
         them, is counted in φ), and d = −det N = a² + b₀₁b₁₀ with its rounding bound."""
         B = basis.conj().T @ self.Z @ basis
         b00, b01, b10, b11 = B.ravel().tolist()
-        a = (b00 - b11) / 2
-        d = a * a + b01 * b10
-        size = abs(a) ** 2 + abs(b01 * b10)
-        # each complex product and the sum: ≤ 2√2u + 2u of the terms; √d's rounding (≤ 2u
-        # relative, so root² is d within 4u|d|): 8u of the terms and 4u of |d| in all
-        return _Block(columns, (b00 + b11) / 2, (a, b01, b10), d, 8 * U * size + 4 * U * abs(d))
+        return _Block.of(columns, (b00 + b11) / 2, ((b00 - b11) / 2, b01, b10))
 
     def _block_matrix(self, w: np.ndarray) -> tuple[np.ndarray | None, float]:
         """B as a matrix (None when it is diag(w): no 2 x 2 blocks) and ‖μI + N − B‖, the
@@ -678,10 +697,13 @@ class BlockMotion:
     def _growth_constants(self) -> tuple[float, float]:
         """(K, ν) with ‖e^{Bτ}‖ ≤ e^{μτ}·min(K, 1 + ντ) =: e^{μτ}q(τ), q nondecreasing.
 
-        A 2 x 2 block is bounded by e^{gτ}(1 + ν_b·min(τ, 1/|√d|)) ≤ e^{gτ}(1 + ν_b τ); below
-        the top rate μ (g = μ − a) that is at most e^{μτ}·max_τ e^{−aτ}(1 + ν_bτ), which is
-        (ν_b/a)e^{a/ν_b − 1} when ν_b > a, else 1. K is the largest of these (inf when a
-        block sits at the top rate), ν the largest ν_b; 1 x 1 blocks contribute 1.
+        A 2 x 2 block is bounded by e^{gτ}(1 + ν_b·min(τ, 1/|√d|)) (g = Re μ_b + |Re √d|:
+        |cosh(√d τ)| ≤ e^{|Re √d|τ} and |sinh(√d τ)/√d| ≤ e^{|Re √d|τ}·min(τ, 1/|√d|)), which
+        is at most e^{μτ}(1 + ν_b/|√d|) and, below the top rate μ (g = μ − a), at most
+        e^{μτ}·max_τ e^{−aτ}(1 + ν_bτ) = e^{μτ}(ν_b/a)e^{a/ν_b − 1} when ν_b > a (else
+        e^{μτ}). K is the largest over the blocks of the smaller of these (inf for a
+        defective block, d = 0, at the top rate), ν the largest ν_b; 1 x 1 blocks
+        contribute 1.
         """
         K, nu = 1.0, 0.0
         for block in self.doubles:
@@ -689,10 +711,15 @@ class BlockMotion:
                 continue
             nu = max(nu, block.nu)
             gap = self.growth - block.growth
+            size = abs(block.root)
+            cap = 1 + block.nu / size if size else math.inf
             if gap <= 0:
-                K = math.inf
+                below = math.inf
             elif block.nu > gap:
-                K = max(K, block.nu / gap * math.exp(gap / block.nu - 1))
+                below = block.nu / gap * math.exp(gap / block.nu - 1)
+            else:
+                below = 1.0
+            K = max(K, min(cap, below))
         return K, nu
 
     def _bounds(self, weights: _Order, t: np.ndarray) -> np.ndarray:
