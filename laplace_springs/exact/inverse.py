@@ -16,7 +16,8 @@ from typing import Any
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from ..model.errors import InversionError
+from ..limits import limits
+from ..model.errors import InversionError, LimitError
 from .laplace import entrywise
 from .partial_fractions import (
     PartialFractions,
@@ -456,11 +457,35 @@ def inverse_laplace(F: Any, s: sp.Symbol, t: sp.Symbol, *, parameters: object = 
                                                            conditions=True), conditions)
     F = transform_of(F, s, parameters)
     _refuse_unknowns(F, s)
+    _refuse_degree(F, s)
     if split_delays(F, s) is None:
         inverse = inverse_laplace_terms(F, s)
         return (inverse.as_expr(t), inverse.conditions) if conditions else inverse.as_expr(t)
     delayed = delayed_inverse(F, s)
     return (delayed.as_expr(t), delayed.conditions) if conditions else delayed.as_expr(t)
+
+
+def _degree(expr: sp.Expr, s: sp.Symbol) -> int:
+    """An upper bound of the degree in s of the numerator and denominator of ``expr``
+    (integer powers multiply, products add; nothing is expanded)."""
+    if not expr.has(s):
+        return 0
+    if expr == s:
+        return 1
+    if isinstance(expr, sp.Pow) and expr.exp.is_Integer:
+        return abs(int(expr.exp)) * _degree(expr.base, s)
+    if isinstance(expr, sp.Mul):
+        return sum(_degree(arg, s) for arg in expr.args)
+    return max((_degree(arg, s) for arg in expr.args), default=0)
+
+
+def _refuse_degree(F: sp.Expr, s: sp.Symbol) -> None:
+    """A LimitError for a transform of degree beyond Limits.max_transform_degree, before
+    any work on it (``1/s**1000`` ran for minutes)."""
+    degree, most = _degree(F, s), limits().max_transform_degree
+    if degree > most:
+        raise LimitError(f"the transform has degree up to {degree} in {s}, above the limit "
+                         f"{most} (Limits.max_transform_degree)")
 
 
 def _refuse_unknowns(F: sp.Expr, s: sp.Symbol) -> None:

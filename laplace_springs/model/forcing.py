@@ -36,7 +36,7 @@ from sympy.core.function import AppliedUndef
 from ..limits import limits
 from .errors import LimitError, SceneError
 from .forcing_size import check_forcing_size
-from .numbers import ALLOWED_FUNCTIONS, check_depth, parse_expression, to_exact
+from .numbers import ALLOWED_FUNCTIONS, MAX_MAGNITUDE, _order, check_depth, parse_expression, to_exact
 from .periodic import PERIODIC_FUNCTIONS, Periodic, common_period
 from .sampled import Sampled
 from .switching import SwitchCondition, UndecidableOrder, latest_delay, sorted_delays, switch_conditions
@@ -324,9 +324,16 @@ def _transform(f: sp.Expr, entry: str, s: sp.Symbol, _limits: Any) -> InputTrans
 
 def _check_parts(by_delay: Mapping[sp.Expr, list[_Atom]],
                  periodic: tuple[tuple[sp.Expr, sp.Expr], ...], entry: str) -> None:
-    """Limits.max_forcing_delays and Limits.max_forcing_constants, on the atoms of an input
-    before their fractions are summed (each delay is one more exact solve of the scene,
-    and each constant one more variable of every polynomial the solve forms)."""
+    """Switching times within MAX_MAGNITUDE, Limits.max_forcing_delays and
+    Limits.max_forcing_constants, on the atoms of an input before their fractions are
+    summed (each delay is one more exact solve of the scene, and each constant one more
+    variable of every polynomial the solve forms)."""
+    for tau in by_delay:
+        if tau.is_number and abs(tau) > MAX_MAGNITUDE:
+            raise SceneError(
+                f"{entry}: the input switches at t = {_order(tau)}, beyond the limit 1e300 "
+                "(MAX_MAGNITUDE) of times that float64 evaluation can hold; leave that switch "
+                "out of the input (it would not act before t = 1e300)")
     delays = len(by_delay) + len(periodic)
     if delays > limits().max_forcing_delays:
         raise LimitError(

@@ -183,3 +183,33 @@ def test_transforms_agree_with_the_laplace_integral(terms, s0):
     value = sp.N(F.subs(sp.Symbol("s"), s0), 30)
     scale = max(1.0, *(abs(float(c)) for c, *_ in terms))
     assert abs(complex(value) - complex(expected)) <= 1e-12 * scale, (f, value, expected)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], forcing=["Heaviside(t - 1e400)"]),
+    lambda: ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], forcing=["DiracDelta(t - 1e400)"]),
+    lambda: ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], forcing=["Heaviside(1e-400*t - 1)"]),
+    lambda: ls.Scene.from_components(masses={"m": 1}, springs={"k": ("wall", "m", 1)}, x0=[0], v0=[0],
+                                     support_motion={"wall": "Heaviside(t - 1e400)"}),
+])
+def test_a_switch_beyond_float64_times_is_refused_when_the_scene_is_built(make):
+    """Found by an attack: accepted, then evaluate raised a bare OverflowError."""
+    with pytest.raises(SceneError, match=r"switches at t = 1\.00e\+400.*MAX_MAGNITUDE"):
+        make()
+
+
+def test_a_switch_just_inside_the_limit_still_solves():
+    scene = ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0],
+                                   forcing=["Heaviside(t - 1e299)"])
+    values = ls.solve(scene).evaluate([3.0])
+    assert abs(values[0, 0] - mpmath.cos(3)) < 1e-14  # the step never acts before 1e299
+    on = ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[0], v0=[0], forcing=["Heaviside(t + 1e400)"])
+    assert abs(ls.solve(on).evaluate([3.0])[0, 0] - (1 - mpmath.cos(3))) < 1e-14  # on from t = 0
+
+
+def test_inverse_laplace_refuses_huge_degrees_before_working():
+    """Found by an attack: 1/s**1000 ran for minutes."""
+    for F in ("1/s**1000", "1/(s**2 + 1)**300"):
+        with pytest.raises(LimitError, match="Limits.max_transform_degree"):
+            ls.inverse_laplace(F, ls.s, ls.t)
+    assert sp.simplify(ls.inverse_laplace("1/s**3", ls.s, ls.t) - t**2 / 2) == 0
