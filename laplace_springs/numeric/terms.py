@@ -306,18 +306,30 @@ def mp_values(data: NumericTerms, n: int, times: Sequence[mpmath.mpf], digits: i
     recomputed) and by the digits of the largest phase |z t|; the pole data is
     reconverted from the exact terms when it is not precise enough.
 
+    Each time is evaluated at the precision its own phase, cancellation and scale need, so
+    its value does not depend on the other times of the call (with one precision for the
+    call, a value of 1e-47 beside a scale of 1e-27 came out in other bits beside another
+    time).
+
     Returns
     -------
     values, bounds : list of n lists of mpf
         The values and bounds on their errors (the sum of |terms| times the working
         precision's unit, which bounds the rounding of every step).
     work : int
-        The working precision used (decimal digits).
+        The largest working precision used (decimal digits).
     """
-    with workdps(30):
-        floor = min((mpmath.mpf(s) for s in scales if s > 0), default=mpmath.mpf(0))
-    values, sizes, work = _mp_values(data, n, list(times), digits, floor or None)
-    with workdps(work):
-        unit = mpmath.mpf(10) ** (2 - work)
-        bounds = [[s * unit for s in row] for row in sizes]
-    return values, bounds, work
+    values: list[list[mpmath.mpf]] = [[] for _ in range(n)]
+    bounds: list[list[mpmath.mpf]] = [[] for _ in range(n)]
+    most = 0
+    for tv, scale in zip(times, scales):
+        with workdps(30):
+            floor = mpmath.mpf(scale) if scale > 0 else None
+        column, sizes, work = _mp_values(data, n, [tv], digits, floor)
+        with workdps(work):
+            unit = mpmath.mpf(10) ** (2 - work)
+            for i in range(n):
+                values[i].append(column[i][0])
+                bounds[i].append(sizes[i][0] * unit)
+        most = max(most, work)
+    return values, bounds, most

@@ -106,6 +106,24 @@ def test_the_default_target_escalates_time_by_time(name):
         assert np.array_equal(values[:, column], sol.evaluate([t])[:, 0]), (name, t)
 
 
+def test_the_mp_engine_gives_a_time_its_own_precision():
+    """Found by an attack: x₂ ≈ 2.08e-47 beside a scale of 1e-27 right after a ramp switches
+    on, finished by the mp engine, came out in other bits beside t = 2.6 (one working
+    precision for the call). The reference, 2.0833351196096980715e-47, is an mpmath
+    variation-of-parameters solution at 45 and 70 digits."""
+    scene = ls.Scene.from_matrices(M=[["9/10", 0], [0, 4]], C=[[2, 0], [0, "1/5"]],
+                                   K=[["7/5", "-9/10"], ["-9/10", "93/70"]], x0=[0, 0],
+                                   v0=[0, 0], forcing=["10*(t - 13/5)*Heaviside(t - 13/5)", "0"])
+    sol = ls.solve(scene)
+    t = 2.600000001
+    alone, bound = sol.evaluate([t], return_error=True)
+    for times in ([2.6, t], [0.0, t, 1000.0], [t, 1e-9]):
+        values, bounds = sol.evaluate(times, return_error=True)
+        column = times.index(t)
+        assert values[1, column] == alone[1, 0] and bounds[1, column] == bound[1, 0], times
+    assert abs(alone[1, 0] - 2.0833351196096980715e-47) <= bound[1, 0]
+
+
 # (p, k): small-matrix kernels, chunks of WIDTH, blocked kernels (p·k·WIDTH > BLOCKED), a row
 SHAPES = [(3, 5), (12, 12), (60, 120), (2, 500), (10, 1000), (400, 400), (1, 3000), (300, 2)]
 
