@@ -26,19 +26,25 @@ __all__ = ["AlgebraicRoot", "root_enclosures"]
 
 
 @lru_cache(maxsize=512)
-def root_enclosures(coeffs: tuple[sp.Rational, ...], dps: int) -> tuple[tuple[str, str], ...]:
-    """All complex roots of a rational polynomial as (real, imag) decimal strings.
+def root_enclosures(coeffs: tuple[sp.Rational, ...], dps: int) -> tuple[tuple[mpmath.mpf, mpmath.mpf], ...]:
+    """All complex roots of a rational polynomial as (real, imag) mpmath numbers.
 
     ``coeffs`` are ascending. The enclosures are certified by arb; their midpoints are
-    returned with ``dps`` digits.
+    returned exactly (binary mantissa and exponent, rounded to the current mpmath
+    precision): no decimal strings, which Python refuses to turn into integers beyond
+    4,300 digits (the mp engine asks up to Limits.max_dps = 10,000).
     """
     poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in coeffs])
     with flint_workdps(dps):
         # python-flint's stub declares list[acb]; the call returns (root, multiplicity) pairs
         pairs = cast(list[tuple[flint.acb, int]], poly.complex_roots())
-        roots = [r for r, _ in pairs]
-        return tuple((r.real.mid().str(dps, radius=False), r.imag.mid().str(dps, radius=False))
-                     for r in roots)
+        return tuple((_binary(r.real.mid()), _binary(r.imag.mid())) for r, _ in pairs)
+
+
+def _binary(value: flint.arb) -> mpmath.mpf:
+    """An exact arb midpoint as an mpf."""
+    mantissa, exponent = value.man_exp()
+    return mpmath.mpf((int(mantissa), int(exponent)))
 
 
 def _mpf(value) -> mpmath.mpf:
@@ -86,7 +92,7 @@ def _root_value(root: AlgebraicRoot, dps: int) -> sp.Expr | None:
     coeffs = tuple(reversed([sp.Rational(c) for c in root.poly.all_coeffs()]))
     interval = root._get_interval()
     with workdps(dps):
-        found = [(mpmath.mpf(re), mpmath.mpf(im)) for re, im in root_enclosures(coeffs, dps)]
+        found = list(root_enclosures(coeffs, dps))
         inside = [z for z in found if _inside(interval, *z)]
         if len(inside) != 1:
             return None
