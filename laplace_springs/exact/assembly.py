@@ -545,8 +545,16 @@ def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
 
 
 def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
-    """The piece of the response switched on at ``tau``."""
-    fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
+    """The piece of the response switched on at ``tau``.
+
+    Constants of the inputs that are not rational (phases cos(2/3), sin(2/3) of an input
+    switched on at τ = 1/3, √2, π; not the scene's parameters) stand as symbols while the
+    partial fractions are formed, so they work over ℚ[c₁, c₂, …] rather than SymPy's
+    expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s, then 0.x s), and are put
+    back in the terms."""
+    parts = [dict(T.parts).get(tau, sp.S.Zero) for T in inputs]
+    forward, back = _constants_as_symbols(parts)
+    fractions = [sp.fraction(sp.cancel(part.xreplace(forward))) for part in parts]
     D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
     load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
     numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
@@ -557,15 +565,45 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     rows, flags, impulses = [], [], []
     for pf in decompose(numerators, denominator, closed_form=True, root_sums=True,
                         parts=(R.determinant, D)):
-        pairs = [(term, _divides(group.factor, D))
+        pairs = [(_put_back(term, back), _divides(group.factor, D))
                  for group in pf.groups for term in group_terms(group)]
         rows.append(tuple(term for term, _ in pairs))
         flags.append(tuple(steady for _, steady in pairs))
         to_sympy = pf.polynomial.domain.to_sympy
-        impulses.append(tuple(to_sympy(c) for c in reversed(pf.polynomial.all_coeffs()))
+        impulses.append(tuple(to_sympy(c).xreplace(back)
+                              for c in reversed(pf.polynomial.all_coeffs()))
                         if not pf.polynomial.is_zero else ())
+    if back:
+        numerators = [_poly(N.as_expr().xreplace(back)) for N in numerators]
     return Piece(tau, tuple(rows), tuple(flags), tuple(impulses) if any(impulses) else (),
                  tuple(numerators), denominator)
+
+
+def _constants_as_symbols(parts: list[sp.Expr]) -> tuple[dict, dict]:
+    """Symbols for the constants of ``parts`` that are not rational numbers (function
+    values such as cos(2/3), roots, π, E): the substitution and its inverse."""
+    found: set[sp.Expr] = set()
+    for part in parts:
+        for atom in part.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
+            if atom.is_number and not atom.is_Rational and not atom.has(lam):
+                found.add(atom)
+    # an atom inside another (√2 in cos(√2)) stays inside it
+    found = {atom for atom in found if not any(atom != other and other.has(atom) for other in found)}
+    names = {atom: sp.Dummy(f"c{k}", real=True) for k, atom in
+             enumerate(sorted(found, key=sp.default_sort_key))}
+    return names, {symbol: atom for atom, symbol in names.items()}
+
+
+def _put_back(term: Term, back: dict) -> Term:
+    """``term`` with the constants of :func:`_constants_as_symbols` in place of their
+    symbols."""
+    if not back:
+        return term
+    changes = {name: getattr(term, name).xreplace(back) for name in ("alpha", "beta", "a", "b")
+               if isinstance(getattr(term, name), sp.Basic)}
+    if isinstance(term, RootSumTerm):
+        changes["weights"] = tuple(w.xreplace(back) for w in term.weights)
+    return dataclasses.replace(term, **changes)
 
 
 def _poly(expr) -> sp.Poly:

@@ -1,0 +1,91 @@
+"""Forced scenes found by attacks, against mpmath references written here (the first-order
+system's matrix exponential and its variation-of-parameters integrals in closed form,
+nothing of the package's transforms or terms).
+
+* A window of force whose two steps cancel to 1e-112 of themselves at t = 1000: the mp
+  engine asks 10,000 digits of the poles, which crashed on Python's limit of 4,300 digits
+  for decimal strings.
+* A cosine switched on at t = 1/3 (phases cos(2/3), sin(2/3) in the input's transform):
+  3 s to solve on three masses while the phases were SymPy expressions in the partial
+  fractions, 0.8 s with them as symbols. Checked here for the values; the time is
+  measured by the attack scripts, not asserted.
+"""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+
+import laplace_springs as ls
+
+
+def _first_order(M, C, K):
+    n = len(M)
+    Mi = mpmath.inverse(mpmath.matrix(M))
+    Z = mpmath.zeros(2 * n, 2 * n)
+    A, B = Mi * mpmath.matrix(K), Mi * mpmath.matrix(C)
+    for i in range(n):
+        Z[i, n + i] = 1
+        for j in range(n):
+            Z[n + i, j], Z[n + i, n + j] = -A[i, j], -B[i, j]
+    return Z, Mi
+
+
+def test_a_window_that_cancels_to_1e_minus_112_is_evaluated_at_full_precision():
+    scene = ls.Scene.from_matrices(M=[["5/3", 0], [0, "3/7"]], C=[[2, 0], [0, "1/5"]],
+                                   K=[["6/7", "-3/7"], ["-3/7", "3/7"]], x0=[0, 0], v0=[0, 0],
+                                   forcing=["3/7*(Heaviside(t - 1/2) - Heaviside(t - 3/2))", "0"])
+    values, bounds = ls.solve(scene).evaluate([1000.0, 901.1516827169132], return_error=True)
+    with mpmath.workdps(300):  # the entries formed at this precision
+        q = mpmath.mpf
+        Z, Mi = _first_order([[q(5) / 3, 0], [0, q(3) / 7]], [[2, 0], [0, q(1) / 5]],
+                             [[q(6) / 7, -q(3) / 7], [-q(3) / 7, q(3) / 7]])
+        g = mpmath.matrix([0, 0, Mi[0, 0] * mpmath.mpf(3) / 7, Mi[1, 0] * mpmath.mpf(3) / 7])
+        # a constant force g on [1/2, 3/2] from rest: y(3/2) = Z⁻¹(e^{Z} − I)g
+        y = mpmath.inverse(Z) * (mpmath.expm(Z) - mpmath.eye(4)) * g
+        for column, t in enumerate([mpmath.mpf(1000), mpmath.mpf(901.1516827169132)]):
+            exact = mpmath.expm(Z * (t - q(3) / 2)) * y
+            for i in range(2):
+                error = abs(mpmath.mpf(float(values[i, column])) - exact[i])
+                assert error <= bounds[i, column], (i, t, error, bounds[i, column])
+                assert error <= 1e-13 * abs(exact[i])  # full relative precision of 1e-112
+    assert 1e-113 < abs(values[0, 0]) < 1e-111
+
+
+def test_a_cosine_switched_on_at_a_third_against_variation_of_parameters():
+    n = 3
+    scene = ls.Scene.from_matrices(M=[[1, 0, 0], [0, 2, 0], [0, 0, "3/7"]],
+                                   C=[["1/5", "-1/10", 0], ["-1/10", "3/10", 0], [0, 0, 2]],
+                                   K=[[3, -1, 0], [-1, "5/2", "-3/2"], [0, "-3/2", "7/4"]],
+                                   x0=[1, 0, 0], v0=[0, 0, 1],
+                                   forcing=[0, "cos(2*t)*Heaviside(t - 1/3)", 0])
+    times = [0.2, 1 / 3, 0.5, 2.0, 7.5]
+    values, bounds = ls.solve(scene).evaluate(times, return_error=True)
+    q = mpmath.mpf
+    with mpmath.workdps(40):
+        Z, Mi = _first_order([[1, 0, 0], [0, 2, 0], [0, 0, q(3) / 7]],
+                             [[q(1) / 5, -q(1) / 10, 0], [-q(1) / 10, q(3) / 10, 0], [0, 0, 2]],
+                             [[3, -1, 0], [-1, q(5) / 2, -q(3) / 2], [0, -q(3) / 2, q(7) / 4]])
+        w, V = mpmath.eig(Z)
+        Vi = mpmath.inverse(V)
+        y0 = mpmath.matrix([1, 0, 0, 0, 0, 1])
+        g = mpmath.matrix([0] * n + [Mi[i, 1] for i in range(n)])  # M⁻¹ e₂
+        c0, cg = Vi * y0, Vi * g
+        tau, omega = q(1) / 3, 2
+        for column, tv in enumerate(times):
+            t = q(tv)
+            modal = []
+            for k in range(2 * n):
+                lam = w[k]
+                part = c0[k] * mpmath.exp(lam * t)
+                if t > tau:  # ∫_τ^t e^{λ(t−s)} cos(ωs) ds, cos = (e^{iωs} + e^{−iωs})/2
+                    for sign in (1, -1):
+                        rate = sign * 1j * omega - lam
+                        part += cg[k] * mpmath.exp(lam * t) * (mpmath.exp(rate * t)
+                                                               - mpmath.exp(rate * tau)) / rate / 2
+                modal.append(part)
+            exact = V * mpmath.matrix(modal)
+            for i in range(n):
+                error = abs(float(values[i, column]) - mpmath.re(exact[i]))
+                assert error <= bounds[i, column], (i, tv, error, bounds[i, column])
+    assert np.max(bounds) < 1e-13
