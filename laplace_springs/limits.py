@@ -355,10 +355,10 @@ class Limits:
     #: t¹⁰⁰ solves in 4.6 s, t¹⁰⁰⁰ in minutes; from about t²⁰ on, the response's
     #: polynomial terms cancel in float64 and its values need the mp engine.
     max_forcing_degree: int = 32
-    #: Largest degree in s of a transform given to ``ls.inverse_laplace`` (numerator or
-    #: denominator, counted without expanding): 1/s**128 inverts in 1.3 s, 1/s**300 in
-    #: 16 s, 1/s**1000 ran for minutes.
-    max_transform_degree: int = 128
+    #: Largest power k of a factor (s − a)^k or q(s)^k of a transform given to
+    #: ``ls.inverse_laplace`` (read from its product as given): 1/s**128 inverts in 1.3 s,
+    #: 1/s**300 in 16 s, 1/s**1000 ran for minutes.
+    max_pole_multiplicity: int = 128
     #: Most switching times (steps, impulses, delayed pieces) of one forcing entry: each
     #: one is one more exact solve of the scene (measured per switching time: 10 ms for
     #: one mass, 0.15 s for 4 masses, 2–3 s for an 8-mass damped chain).

@@ -457,7 +457,7 @@ def inverse_laplace(F: Any, s: sp.Symbol, t: sp.Symbol, *, parameters: object = 
                                                            conditions=True), conditions)
     F = transform_of(F, s, parameters)
     _refuse_unknowns(F, s)
-    _refuse_degree(F, s)
+    _refuse_multiplicity(F, s)
     if split_delays(F, s) is None:
         inverse = inverse_laplace_terms(F, s)
         return (inverse.as_expr(t), inverse.conditions) if conditions else inverse.as_expr(t)
@@ -465,27 +465,20 @@ def inverse_laplace(F: Any, s: sp.Symbol, t: sp.Symbol, *, parameters: object = 
     return (delayed.as_expr(t), delayed.conditions) if conditions else delayed.as_expr(t)
 
 
-def _degree(expr: sp.Expr, s: sp.Symbol) -> int:
-    """An upper bound of the degree in s of the numerator and denominator of ``expr``
-    (integer powers multiply, products add; nothing is expanded)."""
-    if not expr.has(s):
-        return 0
-    if expr == s:
-        return 1
-    if isinstance(expr, sp.Pow) and expr.exp.is_Integer:
-        return abs(int(expr.exp)) * _degree(expr.base, s)
-    if isinstance(expr, sp.Mul):
-        return sum(_degree(arg, s) for arg in expr.args)
-    return max((_degree(arg, s) for arg in expr.args), default=0)
-
-
-def _refuse_degree(F: sp.Expr, s: sp.Symbol) -> None:
-    """A LimitError for a transform of degree beyond Limits.max_transform_degree, before
-    any work on it (``1/s**1000`` ran for minutes)."""
-    degree, most = _degree(F, s), limits().max_transform_degree
-    if degree > most:
-        raise LimitError(f"the transform has degree up to {degree} in {s}, above the limit "
-                         f"{most} (Limits.max_transform_degree)")
+def _refuse_multiplicity(F: sp.Expr, s: sp.Symbol) -> None:
+    """A LimitError for a factor (s − a)^k or q(s)^k of ``F`` with k beyond
+    Limits.max_pole_multiplicity, read from F's product as given, before any work on it
+    (``1/s**1000`` ran for minutes). An irreducible factor of high degree is refused by
+    the partial fractions (Limits.max_exact_factor_degree)."""
+    most = limits().max_pole_multiplicity
+    for factor in sp.Mul.make_args(F):
+        if isinstance(factor, sp.Pow) and factor.exp.is_Integer and factor.base.has(s) \
+                and abs(int(factor.exp)) > most:
+            power = abs(int(factor.exp))
+            where = "denominator" if factor.exp < 0 else "numerator"
+            raise LimitError(f"the transform has ({factor.base})**{power} in its {where}: a "
+                             f"multiplicity {power}, above the limit {most} "
+                             "(Limits.max_pole_multiplicity)")
 
 
 def _refuse_unknowns(F: sp.Expr, s: sp.Symbol) -> None:
