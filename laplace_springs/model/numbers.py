@@ -392,7 +392,9 @@ class _Parser:
         if limit is not None and len(arguments) == 1:
             size = _magnitude(arguments[0])
             if size is not None and size > limit:
-                raise _ParseError(f"the argument of {token.text} has magnitude {_order(size)}, "
+                symbols = arguments[0].free_symbols
+                where = f" at {_shown_values(generic_values(symbols))}" if symbols else ""
+                raise _ParseError(f"the argument of {token.text} has magnitude {_order(size)}{where}, "
                                   f"beyond {_order(sympy.Integer(limit))}", token.column)
         try:
             return self.functions[token.text](*arguments)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 import sympy
 
+import laplace_springs as ls
 from laplace_springs.limits import limits
 from laplace_springs.model.errors import SceneError
 from laplace_springs.model.numbers import (
@@ -349,6 +350,13 @@ def test_limits_refuse_at_once_naming_the_limit(text, fragment):
     with pytest.raises(SceneError, match=re.escape(fragment)):
         to_exact(text, "K[0,0]")
     assert time.perf_counter() - started < 1.0  # a guard against a hang, not a speed target
+
+
+def test_an_argument_in_t_names_the_time_its_magnitude_was_taken_at():
+    """exp(9999*t) against a limit of 1e4 read as a contradiction until the message said
+    it was measured at the generic time."""
+    with pytest.raises(SceneError, match=re.escape("magnitude 1.09e+4 at t = 97/89, beyond 1.00e+4")):
+        ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[1], v0=[0], forcing=["exp(9999*t)"])
 
 
 @pytest.mark.parametrize("value", [10**301, -(10**301), Fraction(1, 10**301), 1e-305, 1.7e308,
