@@ -84,7 +84,9 @@ def _column(name: str, value: Any) -> tuple[np.ndarray, list[Any] | None]:
         raise SceneError(f"sweep: values of {name!r} must be real numbers, got {shown(value)}") from None
     check_flat(array, f"sweep: values of {name!r}")
     if array.dtype.kind in "fiu" and not (array.dtype.kind in "iu" and np.any(np.abs(array) > 2**53)):
-        return array.astype(float), None
+        floats = array.astype(float)
+        _check_magnitudes(name, floats)
+        return floats, None
     if array.dtype.kind == "b":
         raise SceneError(f"sweep: values of {name!r} must be real numbers, got booleans")
     if array.dtype.kind == "c":  # name the first value with an imaginary part, not value 0
@@ -104,6 +106,19 @@ def _column(name: str, value: Any) -> tuple[np.ndarray, list[Any] | None]:
         exact.append(number)
     floats = np.array([float(v) for v in exact], dtype=float)
     return (floats if array.ndim else floats.reshape(())), exact
+
+
+def _check_magnitudes(name: str, floats: np.ndarray) -> None:
+    """Scene.subs' limit 1e-300 ≤ |value| ≤ 1e300 on finite nonzero float values (NaN and
+    infinities get their own message from the sets' checks)."""
+    size = np.abs(np.ravel(floats))
+    with np.errstate(invalid="ignore"):
+        outside = np.flatnonzero(np.isfinite(size) & (size != 0) & ((size < 1e-300) | (size > 1e300)))
+    if outside.size:
+        k = int(outside[0])
+        raise SceneError(f"sweep: value {k} of parameter {name!r}: {float(np.ravel(floats)[k])!r} is "
+                         "beyond the limit 1e-300 <= |value| <= 1e300 (MAX_MAGNITUDE) that float64 "
+                         "evaluation can honour")
 
 
 def parameter_sets(names: tuple[str, ...], symbols: tuple[sp.Symbol, ...],

@@ -210,3 +210,15 @@ def test_bad_input_is_a_scene_error(grounded):
         sweep(grounded, {"k1": 1.0, "k2": 1.0, "c": 1.0}, TIMES, outputs=["x9"])
     with pytest.raises(ValueError, match="times"):
         sweep(grounded, {"k1": 1.0, "k2": 1.0, "c": 1.0}, [-1.0])
+
+
+@pytest.mark.parametrize("value", [1e-320, 1e305, -1e-310])
+def test_float_values_beyond_the_magnitude_limit_are_refused_as_subs_refuses_them(value):
+    """Found by an attack: a subnormal k = 1e-320 in a float array was swept while
+    ``scene.subs({"k": 1e-320})`` refuses it."""
+    scene = ls.Scene.from_matrices(M=[[1]], C=[["c"]], K=[["k"]], x0=[1], v0=[0],
+                                   parameters={"c": "real", "k": "real"})
+    with pytest.raises(SceneError, match="1e-300 <= \\|value\\| <= 1e300"):
+        scene.subs({"k": value, "c": 1})
+    with pytest.raises(SceneError, match=r"sweep: value 1 of parameter 'k': .* 1e-300 <= \|value\| <= 1e300"):
+        ls.sweep(scene, {"k": np.array([1.0, value]), "c": [1.0, 1.0]}, [1.0])
