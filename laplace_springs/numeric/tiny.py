@@ -348,9 +348,9 @@ class TinyMotion:
             else:
                 A, B = data.normalized()
                 floats = data.normalized_floats
-                modes = classical_modes(self.n, data.M, data.K, data.C, floats, (A, B))
-                self._form = BlockMotion(self.n, A, B, data.x0, data.v0, floats=floats,
-                                         modes=modes)
+                self._form = BlockMotion(
+                    self.n, A, B, data.x0, data.v0, floats=floats,
+                    modes=lambda: classical_modes(self.n, data.M, data.K, data.C, floats, (A, B)))
         return self._form
 
     def evaluate(self, times: Times, order: int) -> tuple[np.ndarray, np.ndarray]:

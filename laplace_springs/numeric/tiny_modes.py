@@ -85,11 +85,12 @@ class ClassicalModes:
                                                 real=True))
                 motion.real_columns += [p, p + 1]
                 continue
-            for rate in (high, low):  # σ·e₁ + λ·e₂, normalized
-                top, bottom = sigma / math.hypot(sigma, abs(rate)), rate / math.hypot(sigma, abs(rate))
+            for rate in (high, low) if not high.imag else (high,):  # σ·e₁ + λ·e₂, normalized
+                size = math.hypot(sigma, abs(rate))
+                top, bottom = sigma / size, rate / size
                 basis.append([top * v for v in shape] + [bottom * v for v in shape])
             if high.imag:  # a conjugate pair: the upper one evaluated, twice its real part
-                basis[-1] = [v.conjugate() for v in basis[-2]]
+                basis.append([v.conjugate() for v in basis[-1]])
                 columns.append(p)
                 weights.append(2.0)
                 motion.mirrors.append((p + 1, p))
@@ -101,7 +102,7 @@ class ClassicalModes:
         motion.columns = _as_slice(columns, w.size)
         motion.weights = np.array(weights)
         motion.rates = w[motion.columns]
-        return w, np.array(basis, dtype=complex).T
+        return w, np.array(basis, dtype=complex).T.copy()  # X in C order, as eig's
 
 
 def _roots(k: float, c: float) -> tuple[complex, complex]:
