@@ -552,9 +552,10 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     partial fractions are formed, so they work over ℚ[c₁, c₂, …] rather than SymPy's
     expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s, then 0.x s), and are put
     back in the terms."""
-    parts = [dict(T.parts).get(tau, sp.S.Zero) for T in inputs]
-    forward, back = _constants_as_symbols(parts)
-    fractions = [sp.fraction(sp.cancel(part.xreplace(forward))) for part in parts]
+    fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
+    forward, back = _constants_as_symbols([num for num, _ in fractions],
+                                          [den for _, den in fractions])
+    fractions = [(num.xreplace(forward), den) for num, den in fractions]
     D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
     load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
     numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
@@ -573,22 +574,27 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
         impulses.append(tuple(to_sympy(c).xreplace(back)
                               for c in reversed(pf.polynomial.all_coeffs()))
                         if not pf.polynomial.is_zero else ())
-    if back:
+    if back:  # the piece's transform holds the constants themselves
         numerators = [_poly(N.as_expr().xreplace(back)) for N in numerators]
+        denominator = _poly(denominator.as_expr().xreplace(back))
     return Piece(tau, tuple(rows), tuple(flags), tuple(impulses) if any(impulses) else (),
                  tuple(numerators), denominator)
 
 
-def _constants_as_symbols(parts: list[sp.Expr]) -> tuple[dict, dict]:
-    """Symbols for the constants of ``parts`` that are not rational numbers (function
-    values such as cos(2/3), roots, π, E): the substitution and its inverse."""
+def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
+                          ) -> tuple[dict, dict]:
+    """Symbols for the constants of the inputs' ``numerators`` that are not rational
+    numbers (function values such as cos(2/3), roots, π, E) and appear in no denominator
+    (a pole such as ±iπ keeps its constant: its conditions and root sums name it): the
+    substitution and its inverse."""
     found: set[sp.Expr] = set()
-    for part in parts:
+    for part in numerators:
         for atom in part.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
             if atom.is_number and not atom.is_Rational and not atom.has(lam):
                 found.add(atom)
     # an atom inside another (√2 in cos(√2)) stays inside it
-    found = {atom for atom in found if not any(atom != other and other.has(atom) for other in found)}
+    found = {atom for atom in found if not any(atom != other and other.has(atom) for other in found)
+             and not any(den.has(atom) for den in denominators)}
     names = {atom: sp.Dummy(f"c{k}", real=True) for k, atom in
              enumerate(sorted(found, key=sp.default_sort_key))}
     return names, {symbol: atom for atom, symbol in names.items()}
@@ -603,6 +609,9 @@ def _put_back(term: Term, back: dict) -> Term:
                if isinstance(getattr(term, name), sp.Basic)}
     if isinstance(term, RootSumTerm):
         changes["weights"] = tuple(w.xreplace(back) for w in term.weights)
+        numerator = term.group.numerator
+        changes["group"] = dataclasses.replace(
+            term.group, numerator=sp.Poly(numerator.as_expr().xreplace(back), *numerator.gens))
     return dataclasses.replace(term, **changes)
 
 

@@ -89,3 +89,36 @@ def test_a_cosine_switched_on_at_a_third_against_variation_of_parameters():
                 error = abs(float(values[i, column]) - mpmath.re(exact[i]))
                 assert error <= bounds[i, column], (i, tv, error, bounds[i, column])
     assert np.max(bounds) < 1e-13
+
+
+def test_irrational_constants_of_an_input_stay_out_of_the_conditions_and_the_text():
+    """The constants stand as symbols only inside the partial fractions: sin(πt) (π in a
+    pole) and e·sin(t)·H(t − 1/3) (e and the phases cos(1/3), sin(1/3) in numerators) give
+    no genericity conditions, and the formulas name π and e, not the stand-ins. Values
+    against the textbook response of m x'' + c x' + k x = F sin(ωt) from rest."""
+    m, c, k = 1, mpmath.mpf(1) / 10, 4
+    for text, omega, amplitude in (("sin(pi*t)", mpmath.pi, 1), ("E*sin(t)", 1, mpmath.e)):
+        scene = ls.Scene.from_matrices(M=[[m]], C=[["1/10"]], K=[[k]], x0=[0], v0=[0],
+                                       forcing=[text])
+        solution = ls.solve(scene)
+        assert solution.conditions == ()
+        assert "_c" not in solution.latex() and "_c" not in str(solution.x)
+        values, bounds = solution.evaluate([0.5, 2.0, 9.0], return_error=True)
+        with mpmath.workdps(40):
+            # steady state X sin(ωt − φ) plus the free response that starts from rest
+            def x(t, w=omega, F=amplitude):
+                lam = mpmath.polyroots([m, c, k])
+                # residues of F w / ((s² + w²)(m s² + c s + k)) at all four poles
+                poles = [1j * w, -1j * w, *lam]
+                total = 0
+                for p in poles:
+                    others = [q for q in poles if q != p]
+                    total += F * w / m * mpmath.exp(p * t) / mpmath.fprod(p - q for q in others)
+                return mpmath.re(total)
+            for column, t in enumerate([0.5, 2.0, 9.0]):
+                assert abs(values[0, column] - x(mpmath.mpf(t))) <= bounds[0, column]
+    delayed = ls.Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[1], v0=[0],
+                                     forcing=["E*sin(t)*Heaviside(t - 1/3)"])
+    solution = ls.solve(delayed)
+    assert solution.conditions == () and "_c" not in str(solution.x)
+    assert solution.verify().ok
