@@ -550,8 +550,9 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     Constants of the inputs that are not rational (phases cos(2/3), sin(2/3) of an input
     switched on at τ = 1/3, √2, π; not the scene's parameters) stand as symbols while the
     partial fractions are formed, so they work over ℚ[c₁, c₂, …] rather than SymPy's
-    expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s, then 0.x s), and are put
-    back in the terms."""
+    expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s before, 0.4-0.8 s), and are put
+    back in the terms. A constant in a denominator (the pole ±iπ of sin(πt)) stays: the
+    genericity conditions and root sums would name its stand-in."""
     fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
     forward, back = _constants_as_symbols([num for num, _ in fractions],
                                           [den for _, den in fractions])
