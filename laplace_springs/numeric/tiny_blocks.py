@@ -721,7 +721,9 @@ class BlockMotion:
 
         A 2 x 2 block is bounded by e^{gτ}(1 + ν_b·min(τ, 1/|√d|)) (g = Re μ_b + |Re √d|:
         |cosh(√d τ)| ≤ e^{|Re √d|τ} and |sinh(√d τ)/√d| ≤ e^{|Re √d|τ}·min(τ, 1/|√d|)), which
-        is at most e^{μτ}(1 + ν_b/|√d|) and, below the top rate μ (g = μ − a), at most
+        is at most e^{μτ}(1 + ν_b/√(|d| − δd)) (δd the bound of d's rounding: the cap holds
+        for the block as stored, not only for the computed d) and, below the top rate μ
+        (g = μ − a), at most
         e^{μτ}·max_τ e^{−aτ}(1 + ν_bτ) = e^{μτ}(ν_b/a)e^{a/ν_b − 1} when ν_b > a (else
         e^{μτ}). K is the largest over the blocks of the smaller of these (inf for a
         defective block, d = 0, at the top rate), ν the largest ν_b; 1 x 1 blocks
@@ -733,8 +735,9 @@ class BlockMotion:
                 continue
             nu = max(nu, block.nu)
             gap = self.growth - block.growth
-            size = abs(block.root)
-            cap = 1 + block.nu / size if size else math.inf
+            # the stored block's own |d| is at least |d| − d_error (d is rounded)
+            least = abs(block.d) - block.d_error
+            cap = 1 + block.nu / math.sqrt(least) if least > 0 else math.inf
             if gap <= 0:
                 below = math.inf
             elif block.nu > gap:
