@@ -228,7 +228,7 @@ class _Block:
     ‖N‖_F, ``root`` = √d (the eigenvalues are μ ± √d) and ``growth`` (their largest real
     part) are computed once."""
 
-    __slots__ = ("columns", "mu", "entries", "N", "d", "d_error", "weight", "skip", "real",
+    __slots__ = ("columns", "mu", "entries", "d", "d_error", "weight", "skip", "real",
                  "nu", "root", "growth")
 
     def __init__(self, columns: tuple[int, int], mu: complex,
@@ -236,7 +236,6 @@ class _Block:
                  weight: int = 1, skip: bool = False, real: bool = False) -> None:
         a, b01, b10 = self.entries = entries  # N = [[a, b01], [b10, −a]]
         self.columns, self.mu, self.d, self.d_error = columns, complex(mu), d, d_error
-        self.N = np.array([[a, b01], [b10, -a]])
         self.weight, self.skip, self.real = weight, skip, real
         size = abs(a)
         self.nu = math.hypot(size, size, abs(b01), abs(b10))
@@ -479,17 +478,13 @@ class BlockMotion:
         rounding of μ and a on the 2 x 2 blocks."""
         if not self.doubles:
             return None, 0.0
-        rates: list[complex] = w.tolist()
-        size = len(rates)
-        rows = [[0j] * size for _ in range(size)]
-        for i, rate in enumerate(rates):
-            rows[i][i] = rate
+        B = np.diag(w)
         moved = 0.0
         for block in self.doubles:
             (i, j), (a, b01, b10), mu = block.columns, block.entries, block.mu
-            rows[i][i], rows[j][j], rows[i][j], rows[j][i] = mu + a, mu - a, b01, b10
+            B[i, i], B[j, j], B[i, j], B[j, i] = mu + a, mu - a, b01, b10
             moved = max(moved, 2 * U * (abs(mu) + abs(a)))
-        return np.array(rows), moved
+        return B, moved
 
     def _times_B(self, P: np.ndarray) -> np.ndarray:
         """P·B (B diagonal: a scaling of P's columns)."""
@@ -597,7 +592,7 @@ class BlockMotion:
                     values += terms[:, j]
         else:
             values = np.zeros((n, t.size))
-        for block, g_C, g_S, _ in weights.doubles:
+        for block, g_C, g_S in weights.doubles:
             values += self._double(block, g_C, g_S, t)
         return values
 
@@ -797,10 +792,11 @@ class _Order:
     """The weights of one derivative order (see :meth:`BlockMotion._order`).
 
     ``g``: the weights g_j = weight_j·L_j c_j of the evaluated 1 x 1 blocks (the columns
-    of an (n, blocks) array); ``doubles``: per 2 x 2 block (block,
-    L_b c_b, L_b N c_b as columns, (row norms of L_b, ‖c_b‖, ‖N c_b‖)); ``single_size``
-    Σ_j |g_j| per row; ``rows`` the row norms of L; ``F_rows`` σ‖(X's velocity rows)_i‖
-    for order 2.
+    of an (n, blocks) array); ``doubles``: per 2 x 2 block (block, L_b c_b, L_b N c_b as
+    columns); ``single_size`` Σ_j |g_j| per row; ``double_C`` and ``double_S`` Σ_b of
+    |L_b c_b| and |L_b N c_b| per row; ``d_C`` and ``d_S`` Σ_b of the rounding δd of the
+    block's d times ‖(L_b)_i‖·‖c_b‖ and ‖(L_b)_i‖·‖N c_b‖; ``rows`` the row norms of L;
+    ``F_rows`` σ‖(X's velocity rows)_i‖ for order 2.
     """
 
     def __init__(self, L: np.ndarray, motion: BlockMotion, F_rows: np.ndarray | None) -> None:
@@ -812,28 +808,39 @@ class _Order:
         self.F_rows = F_rows
         #: the bound's terms without 2 x 2 blocks (made by BlockMotion._plain)
         self.plain: tuple[np.ndarray, ...] | None = None
-        self.doubles = []
+        self.doubles: list[tuple[_Block, np.ndarray, np.ndarray]] = []
         #: Σ of every weight's size per row (the absolute floor of the bound)
         self.size = self.single_size
-        if not motion.doubles:
-            return
-        for block in motion.doubles:
+        if motion.doubles:
+            self._add_doubles(L.tolist(), c.tolist(), motion.doubles)
+
+    def _add_doubles(self, L: list[list[complex]], c: list[complex],
+                     blocks: list[_Block]) -> None:
+        """The 2 x 2 blocks' weights and sizes, in Python: two columns and at most four
+        rows per block, fewer operations than the NumPy calls that would make them."""
+        n = len(L)
+        double_C, double_S, d_C, d_S = [0.0] * n, [0.0] * n, [0.0] * n, [0.0] * n
+        for block in blocks:
             if block.skip:
                 continue
-            cols = list(block.columns)
-            rows, coefficient = L[:, cols], c[cols]
-            Nc = block.N @ coefficient
-            self.doubles.append((block, block.weight * (rows @ coefficient)[:, None],
-                                 block.weight * (rows @ Nc)[:, None],
-                                 (_row_norms(rows), _norm(coefficient),
-                                  _norm(Nc))))
-        doubles = self.doubles
-        zero = np.zeros(L.shape[0])
-        self.double_C = sum((np.abs(g_C[:, 0]) for _, g_C, _, _ in doubles), zero)
-        self.double_S = sum((np.abs(g_S[:, 0]) for _, _, g_S, _ in doubles), zero)
-        #: the rounding δd of each block's d times ‖rows‖·‖c_b‖ and ‖rows‖·‖N c_b‖
-        self.d_C = sum((block.weight * block.d_error * c_norm * rows
-                        for block, _, _, (rows, c_norm, _) in doubles), zero)
-        self.d_S = sum((block.weight * block.d_error * Nc_norm * rows
-                        for block, _, _, (rows, _, Nc_norm) in doubles), zero)
+            i, j = block.columns
+            (a, b01, b10), weight = block.entries, block.weight
+            ci, cj = c[i], c[j]
+            Ni, Nj = a * ci + b01 * cj, b10 * ci - a * cj  # N c_b, N = [[a, b01], [b10, −a]]
+            c_error = weight * block.d_error * math.hypot(abs(ci), abs(cj))
+            Nc_error = weight * block.d_error * math.hypot(abs(Ni), abs(Nj))
+            g_C, g_S = [], []
+            for r, row in enumerate(L):
+                x, y = row[i], row[j]
+                C_r, S_r = weight * (x * ci + y * cj), weight * (x * Ni + y * Nj)
+                g_C.append(C_r)
+                g_S.append(S_r)
+                size = math.hypot(abs(x), abs(y))
+                double_C[r] += abs(C_r)
+                double_S[r] += abs(S_r)
+                d_C[r] += c_error * size
+                d_S[r] += Nc_error * size
+            self.doubles.append((block, np.array(g_C)[:, None], np.array(g_S)[:, None]))
+        self.double_C, self.double_S, self.d_C, self.d_S = (
+            np.array(double_C), np.array(double_S), np.array(d_C), np.array(d_S))
         self.size = self.single_size + self.double_C + self.double_S
