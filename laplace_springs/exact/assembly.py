@@ -26,6 +26,7 @@ the later stages (evaluation, LaTeX, plots) read.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Literal
@@ -551,12 +552,15 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     switched on at τ = 1/3, √2, π; not the scene's parameters) stand as symbols while the
     partial fractions are formed, so they work over ℚ[c₁, c₂, …] rather than SymPy's
     expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s before, 0.4-0.8 s), and are put
-    back in the terms. A constant in a denominator (the pole ±iπ of sin(πt)) stays: the
-    genericity conditions and root sums would name its stand-in."""
+    back in the terms. π or e in the inputs' denominators (the poles ±iπ of sin(πt)) stands
+    as a symbol too when it is their only constant and Δ(λ) has none: a transcendental
+    number is a root of no nonzero polynomial with algebraic coefficients, so every
+    genericity condition of the partial fractions over ℚ(p) holds at p = π (sin(πt) on
+    three masses: 100 s over SymPy's expression domain before, see the tests for now)."""
     fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
     forward, back = _constants_as_symbols([num for num, _ in fractions],
-                                          [den for _, den in fractions])
-    fractions = [(num.xreplace(forward), den) for num, den in fractions]
+                                          [den for _, den in fractions], R.determinant)
+    fractions = [(num.xreplace(forward), den.xreplace(forward)) for num, den in fractions]
     D = sp.Poly(sp.lcm_list([den for _, den in fractions] or [1]), lam)
     load = [_poly(sp.cancel(num * D.as_expr() / den)) for num, den in fractions]
     numerators = [sum((_poly(R.adjugate[i, j]) * load[j] for j in range(scene.n)), _poly(0))
@@ -582,12 +586,19 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
                  tuple(numerators), denominator)
 
 
-def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
-                          ) -> tuple[dict, dict]:
+def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr],
+                          determinant: sp.Poly) -> tuple[dict, dict]:
     """Symbols for the constants of the inputs' ``numerators`` that are not rational
-    numbers (function values such as cos(2/3), roots, π, E) and appear in no denominator
-    (a pole such as ±iπ keeps its constant: its conditions and root sums name it): the
-    substitution and its inverse."""
+    numbers (function values such as cos(2/3), roots, π, E) and appear in no denominator,
+    and for the transcendental generator of the denominators (:func:`_transcendental`):
+    the substitution and its inverse.
+
+    >>> forward, back = _constants_as_symbols([sp.pi], [lam**2 + sp.pi**2], sp.Poly(lam + 1, lam))
+    >>> sorted(map(str, forward.items())), list(back.values())
+    (['(pi**2, _p**2)', '(pi, _p)'], [pi])
+    >>> _constants_as_symbols([sp.sqrt(2)], [lam**2 + 2], sp.Poly(lam + 1, lam))[0]
+    {sqrt(2): _c0}
+    """
     found: set[sp.Expr] = set()
     for part in numerators:
         for atom in part.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
@@ -598,7 +609,60 @@ def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
              and not any(den.has(atom) for den in denominators)}
     names = {atom: sp.Dummy(f"c{k}", real=True) for k, atom in
              enumerate(sorted(found, key=sp.default_sort_key))}
-    return names, {symbol: atom for atom, symbol in names.items()}
+    symbol = sp.Dummy("p", positive=True)
+    powers = _transcendental(denominators, determinant, symbol)
+    back = {stand_in: atom for atom, stand_in in names.items()}
+    if powers:
+        names.update(powers[0])
+        back[symbol] = powers[1]
+    return names, back
+
+
+def _transcendental(denominators: list[sp.Expr], determinant: sp.Poly, symbol: sp.Symbol
+                    ) -> tuple[dict, sp.Expr] | None:
+    """The constants of the inputs' ``denominators`` as powers of ``symbol`` standing for
+    one transcendental number g, and g: π (π², 1/π: g = π) or e^{1/L} (e, e², e^{1/2}: e^r =
+    g^{rL}), when every constant of the denominators besides rationals is such a power and
+    Δ(λ) has rational or symbolic coefficients; else None.
+
+    g is a root of no nonzero polynomial with algebraic coefficients (Lindemann 1882,
+    Hermite 1873), so the partial fractions over ℚ(p), the parameters adjoined, hold at
+    p = g: no condition on p can fail there.
+    """
+    domain = determinant.domain
+    ground = domain.domain if domain.is_PolynomialRing or domain.is_FractionField else domain
+    if not (ground.is_ZZ or ground.is_QQ):
+        return None
+    exponents: dict[sp.Expr, tuple[sp.Expr, sp.Rational]] = {}
+    for den in denominators:
+        for atom in den.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
+            if atom.is_number and not atom.is_Rational:
+                found = _as_power(atom)
+                if found is None:
+                    return None
+                exponents[atom] = found
+    bases = {base for base, _ in exponents.values()}
+    if len(bases) != 1:
+        return None
+    base = bases.pop()
+    L = math.lcm(*(int(exponent.q) for _, exponent in exponents.values()))
+    forward = {atom: symbol ** int(exponent * L) for atom, (_, exponent) in exponents.items()}
+    return forward, base ** sp.Rational(1, L)
+
+
+def _as_power(atom: sp.Expr) -> tuple[sp.Expr, sp.Rational] | None:
+    """(π, k) for π^k (k an integer), (e, r) for e^r (r rational); else None.
+
+    >>> _as_power(sp.pi**2), _as_power(sp.exp(sp.Rational(3, 2))), _as_power(sp.sqrt(2))
+    ((pi, 2), (E, 3/2), None)
+    """
+    if atom is sp.pi or atom is sp.E:
+        return atom, sp.Integer(1)
+    if atom.is_Pow and atom.base is sp.pi and atom.exp.is_Integer:
+        return sp.pi, atom.exp
+    if isinstance(atom, sp.exp) and atom.args[0].is_Rational:
+        return sp.E, atom.args[0]
+    return None
 
 
 def _put_back(term: Term, back: dict) -> Term:
