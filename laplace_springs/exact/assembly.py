@@ -556,7 +556,8 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     as a symbol too when it is their only constant and Δ(λ) has none: a transcendental
     number is a root of no nonzero polynomial with algebraic coefficients, so every
     genericity condition of the partial fractions over ℚ(p) holds at p = π (sin(πt) on
-    three masses: 100 s over SymPy's expression domain before, see the tests for now)."""
+    three masses: 100 s over SymPy's expression domain before, 4 s now; t·e^{−et} on two
+    28 s, 1 s)."""
     fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
     forward, back = _constants_as_symbols([num for num, _ in fractions],
                                           [den for _, den in fractions], R.determinant)
