@@ -552,12 +552,11 @@ def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
     switched on at τ = 1/3, √2, π; not the scene's parameters) stand as symbols while the
     partial fractions are formed, so they work over ℚ[c₁, c₂, …] rather than SymPy's
     expression domain (cos(2t)·H(t − 1/3) on three masses: 3 s before, 0.4-0.8 s), and are put
-    back in the terms. π or e in the inputs' denominators (the poles ±iπ of sin(πt)) stands
-    as a symbol too when it is their only constant and Δ(λ) has none: a transcendental
-    number is a root of no nonzero polynomial with algebraic coefficients, so every
-    genericity condition of the partial fractions over ℚ(p) holds at p = π (sin(πt) on
-    three masses: 100 s over SymPy's expression domain before, 4 s now; t·e^{−et} on two
-    28 s, 1 s)."""
+    back in the terms. The constants of the inputs' denominators (the poles ±iπ of sin(πt),
+    −√2 of e^{−√2t}) stand as symbols too where the partial fractions over them hold at
+    the constants (:func:`_pole_constants`): sin(πt) on three masses 100 s in SymPy's
+    expression domain, 4 s now; e^{−√2t} on three masses over 280 s, 5 s; t·e^{−et} on two
+    28 s, 1 s."""
     fractions = [sp.fraction(sp.cancel(dict(T.parts).get(tau, sp.S.Zero))) for T in inputs]
     forward, back = _constants_as_symbols([num for num, _ in fractions],
                                           [den for _, den in fractions], R.determinant)
@@ -591,8 +590,8 @@ def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
                           determinant: sp.Poly) -> tuple[dict, dict]:
     """Symbols for the constants of the inputs' ``numerators`` that are not rational
     numbers (function values such as cos(2/3), roots, π, E) and appear in no denominator,
-    and for the transcendental generator of the denominators (:func:`_transcendental`):
-    the substitution and its inverse.
+    and for the constants of the denominators (:func:`_pole_constants`): the substitution
+    and its inverse.
 
     >>> forward, back = _constants_as_symbols([sp.pi], [lam**2 + sp.pi**2], sp.Poly(lam + 1, lam))
     >>> sorted(map(str, forward.items())), list(back.values())
@@ -610,45 +609,93 @@ def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
              and not any(den.has(atom) for den in denominators)}
     names = {atom: sp.Dummy(f"c{k}", real=True) for k, atom in
              enumerate(sorted(found, key=sp.default_sort_key))}
-    symbol = sp.Dummy("p", positive=True)
-    powers = _transcendental(denominators, determinant, symbol)
     back = {stand_in: atom for atom, stand_in in names.items()}
-    if powers:
-        names.update(powers[0])
-        back[symbol] = powers[1]
+    poles = _pole_constants(denominators, determinant)
+    if poles is not None:
+        names.update(poles[0])
+        back.update(poles[1])
     return names, back
 
 
-def _transcendental(denominators: list[sp.Expr], determinant: sp.Poly, symbol: sp.Symbol
-                    ) -> tuple[dict, sp.Expr] | None:
-    """The constants of the inputs' ``denominators`` as powers of ``symbol`` standing for
-    one transcendental number g, and g: π (π², 1/π: g = π) or e^{1/L} (e, e², e^{1/2}: e^r =
-    g^{rL}), when every constant of the denominators besides rationals is such a power and
-    Δ(λ) has rational or symbolic coefficients; else None.
+def _pole_constants(denominators: list[sp.Expr], determinant: sp.Poly) -> tuple[dict, dict] | None:
+    """Symbols for the constants of the inputs' ``denominators`` (the poles' constants):
+    the substitution and its inverse, or None (they stay in SymPy's expression domain).
 
-    g is a root of no nonzero polynomial with algebraic coefficients (Lindemann 1882,
-    Hermite 1873), so the partial fractions over ℚ(p), the parameters adjoined, hold at
-    p = g: no condition on p can fail there.
+    Powers of π stand as powers of one symbol for π, and powers of e (e, e² = exp(2),
+    e^{1/2}) as powers of one symbol for e^{1/L}; any other constant (√2, cos 1) as a symbol
+    of its own. Where they are powers of π alone or of e alone and Δ(λ) has rational or
+    symbolic coefficients, the partial fractions over ℚ(p), the parameters adjoined, hold
+    at p = g without a check: a transcendental number is a root of no nonzero polynomial
+    with algebraic coefficients (Lindemann 1882, Hermite 1873). Otherwise, with Δ(λ)
+    rational, they hold where the leading coefficients, the discriminants and the
+    resultants of the denominator's factors over ℚ[p₁, p₂, …] are nonzero at the
+    constants (:func:`_specializes`: √2 meets the stiffness 2 in a resonance, and
+    π² − e² is not known to be nonzero by any theorem); else None.
     """
     domain = determinant.domain
+    rational = domain.is_ZZ or domain.is_QQ
     ground = domain.domain if domain.is_PolynomialRing or domain.is_FractionField else domain
     if not (ground.is_ZZ or ground.is_QQ):
         return None
-    exponents: dict[sp.Expr, tuple[sp.Expr, sp.Rational]] = {}
-    for den in denominators:
-        for atom in den.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
-            if atom.is_number and not atom.is_Rational:
-                found = _as_power(atom)
-                if found is None:
-                    return None
-                exponents[atom] = found
-    bases = {base for base, _ in exponents.values()}
-    if len(bases) != 1:
+    atoms = {atom for den in denominators for atom in den.atoms(sp.Function, sp.Pow, sp.NumberSymbol)
+             if atom.is_number and not atom.is_Rational}
+    if not atoms:
         return None
-    base = bases.pop()
-    L = math.lcm(*(int(exponent.q) for _, exponent in exponents.values()))
-    forward = {atom: symbol ** int(exponent * L) for atom, (_, exponent) in exponents.items()}
-    return forward, base ** sp.Rational(1, L)
+    powers = {atom: found for atom in atoms if (found := _as_power(atom)) is not None}
+    others = sorted(atoms - set(powers), key=sp.default_sort_key)
+    forward: dict[sp.Expr, sp.Expr] = {}
+    back: dict[sp.Symbol, sp.Expr] = {}
+    for base in sorted({base for base, _ in powers.values()}, key=sp.default_sort_key):
+        group = {atom: exponent for atom, (b, exponent) in powers.items() if b == base}
+        L = math.lcm(*(int(exponent.q) for exponent in group.values()))
+        symbol = sp.Dummy("p", positive=True)
+        forward.update({atom: symbol ** int(exponent * L) for atom, exponent in group.items()})
+        back[symbol] = base ** sp.Rational(1, L)
+    for k, atom in enumerate(others):
+        symbol = sp.Dummy(f"q{k}", real=True)
+        forward[atom], back[symbol] = symbol, atom
+    if len(back) == 1 and not others:
+        return forward, back
+    if not rational:
+        return None
+    D = sp.Poly(sp.lcm_list([den.xreplace(forward) for den in denominators]), lam)
+    return (forward, back) if _specializes(determinant * D, back) else None
+
+
+def _specializes(denominator: sp.Poly, values: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Whether partial fractions over ``denominator`` (coefficients in ℚ[p₁, p₂, …]) hold
+    at p = ``values``: its factors keep their degrees, stay squarefree and share no root
+    there (the leading coefficients, the discriminants and the pairwise resultants, the
+    only denominators of the residues, are nonzero at ``values``).
+
+    >>> p = sp.Dummy("q")
+    >>> _specializes(sp.Poly((lam**2 + 2) * (lam**2 + p**2), lam), {p: sp.sqrt(3)})
+    True
+    >>> _specializes(sp.Poly((lam**2 + 2) * (lam**2 + p**2), lam), {p: sp.sqrt(2)})  # resonance
+    False
+    """
+    symbols = set(values)
+    _, factors = denominator.factor_list()
+    polys = [f for f, _ in factors if f.degree() > 0]
+    checks = [denominator.LC()]
+    for i, f in enumerate(polys):
+        own = bool(f.free_symbols & symbols)
+        if own:
+            checks += [f.LC(), f.discriminant()] if f.degree() >= 2 else [f.LC()]
+        checks += [f.resultant(g) for g in polys[i + 1:] if own or g.free_symbols & symbols]
+    return all(_nonzero(sp.sympify(check), values) for check in checks)
+
+
+def _nonzero(value: sp.Expr, values: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Whether the polynomial ``value`` in the stand-ins is nonzero at ``values``: its
+    value at 60 digits exceeds 10⁻⁴⁰ of the sum of its terms' sizes (an exact zero, such as
+    (√2)² − 2, evaluates far below that; a true value so small is taken as zero, which
+    only sends the scene back to the slower exact domain)."""
+    terms = sp.Add.make_args(sp.expand(value))
+    at = sp.Add(*(term.xreplace(values) for term in terms))
+    size = sum(abs(complex(sp.N(term.xreplace(values), 15))) for term in terms)
+    found = abs(complex(sp.N(at, 60, maxn=600)))
+    return found > 1e-40 * size
 
 
 def _as_power(atom: sp.Expr) -> tuple[sp.Expr, sp.Rational] | None:

@@ -201,3 +201,54 @@ def test_a_parameter_beside_a_transcendental_pole_keeps_its_condition_in_pi():
         for column, t in enumerate([0.5, 4.0]):  # (sin πt − (π/w) sin wt)/(w² − π²)
             exact = (mpmath.sin(pi * t) - pi / w * mpmath.sin(w * t)) / (2 - pi ** 2)
             assert abs(values[0, column] - exact) < 1e-14
+
+
+def test_other_constants_in_a_pole_stand_as_symbols_where_the_conditions_hold_there():
+    """e^{−√2 t} on two masses (5 s in SymPy's expression domain, > 280 s on three) and
+    sin(πt) beside cos(et) on one: the constants stand as symbols once the leading
+    coefficients, discriminants and resultants of the denominator's factors are checked
+    nonzero at them. Values against variation of parameters."""
+    q = mpmath.mpf
+    M, C, K = [[1, 0], [0, 2]], [["1/5", 0], [0, 0]], [[3, -1], [-1, 1]]
+    scene = ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1, 0], v0=[0, 0],
+                                   forcing=["exp(-sqrt(2)*t)", 0])
+    solution = ls.solve(scene)
+    assert solution.method == "exact" and solution.conditions == ()
+    assert "_q" not in str(solution.x) and "sqrt(2)" in str(solution.x)
+    times = [0.5, 3.0, 20.0]
+    values, bounds = solution.evaluate(times, return_error=True)
+    with mpmath.workdps(40):
+        exact = _driven_reference(M, [[q(1) / 5, 0], [0, 0]], K, [1, 0, 0, 0], 0,
+                                  [(1, 0, -mpmath.sqrt(2))], [q(t) for t in times])
+    for column, row in enumerate(exact):
+        for i in range(2):
+            assert abs(values[i, column] - row[i]) <= bounds[i, column]
+    mixed = ls.solve(ls.Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[0], v0=[0],
+                                            forcing=["sin(pi*t) + cos(E*t)"]))
+    assert mixed.method == "exact" and "_p" not in str(mixed.x)
+    values, bounds = mixed.evaluate(times, return_error=True)
+    with mpmath.workdps(40):
+        pi, e = mpmath.pi, mpmath.e
+        exact = _driven_reference([[1]], [[q(1) / 10]], [[4]], [0, 0], 0,
+                                  [(1 / (2j), 0, 1j * pi), (-1 / (2j), 0, -1j * pi),
+                                   (q(1) / 2, 0, 1j * e), (q(1) / 2, 0, -1j * e)],
+                                  [q(t) for t in times])
+    for column, row in enumerate(exact):
+        assert abs(values[0, column] - row[0]) <= bounds[0, column]
+
+
+def test_an_algebraic_pole_that_meets_the_scene_resonates_exactly():
+    """x'' − 2x = e^{−√2 t} from rest: with a symbol q for √2, λ² − 2 and λ + q would be
+    coprime (the decomposition gives 0/0 at q = √2); their resultant q² − 2 vanishes at √2,
+    so the constant stays and the double pole gives the secular term:
+    x = −t e^{−√2t}/(2√2) + (e^{√2t} − e^{−√2t})/8."""
+    solution = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[-2]], x0=[0], v0=[0],
+                                               forcing=["exp(-sqrt(2)*t)"]))
+    assert solution.method == "exact"
+    values, bounds = solution.evaluate([1.0, 5.0], return_error=True)
+    with mpmath.workdps(30):
+        r = mpmath.sqrt(2)
+        for column, t in enumerate([1.0, 5.0]):
+            exact = (-t * mpmath.exp(-r * t) / (2 * r)
+                     + (mpmath.exp(r * t) - mpmath.exp(-r * t)) / 8)
+            assert abs(values[0, column] - exact) <= bounds[0, column]
