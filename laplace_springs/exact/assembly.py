@@ -542,7 +542,12 @@ def _forced_pieces(scene: Scene, R: Resolvent) -> tuple[Piece, ...]:
     assert scene.forcing is not None
     inputs = [input_transform(f, f"forcing[{j}]", lam) for j, f in enumerate(scene.forcing)]
     delays = sorted_delays({tau for T in inputs for tau, _ in T.parts} | {sp.S.Zero})
-    return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
+    try:
+        return tuple(_forced_piece(scene, R, inputs, tau) for tau in delays)
+    except sp.PolynomialError as exc:  # SymPy's expression domain could not cancel (√6 = √2·√3)
+        raise InversionError("the exact route could not put the inputs' transforms over one "
+                             f"denominator (SymPy: {str(exc)[:120]}); method='auto' solves "
+                             "the scene numerically") from None
 
 
 def _forced_piece(scene: Scene, R: Resolvent, inputs, tau: sp.Expr) -> Piece:
@@ -666,7 +671,9 @@ def _specializes(denominator: sp.Poly, values: dict[sp.Symbol, sp.Expr]) -> bool
     """Whether partial fractions over ``denominator`` (coefficients in ℚ[p₁, p₂, …]) hold
     at p = ``values``: its factors keep their degrees, stay squarefree and share no root
     there (the leading coefficients, the discriminants and the pairwise resultants, the
-    only denominators of the residues, are nonzero at ``values``).
+    only denominators of the residues, are nonzero at ``values``), and the factors with
+    stand-ins have closed-form roots (degree ≤ 2: the stand-ins for √2, √3 and √6 do not
+    know √2·√3 = √6, and (λ + √2)(λ + √3)(λ + √6) expanded is irreducible over them).
 
     >>> p = sp.Dummy("q")
     >>> _specializes(sp.Poly((lam**2 + 2) * (lam**2 + p**2), lam), {p: sp.sqrt(3)})
@@ -680,6 +687,8 @@ def _specializes(denominator: sp.Poly, values: dict[sp.Symbol, sp.Expr]) -> bool
     checks = [denominator.LC()]
     for i, f in enumerate(polys):
         own = bool(f.free_symbols & symbols)
+        if own and f.degree() > 2:  # a sum over its roots would need the numbers
+            return False
         if own:
             checks += [f.LC(), f.discriminant()] if f.degree() >= 2 else [f.LC()]
         checks += [f.resultant(g) for g in polys[i + 1:] if own or g.free_symbols & symbols]

@@ -17,8 +17,10 @@ from fractions import Fraction
 
 import mpmath
 import numpy as np
+import pytest
 
 import laplace_springs as ls
+from laplace_springs.model.errors import InversionError
 
 
 def _first_order(M, C, K):
@@ -252,3 +254,25 @@ def test_an_algebraic_pole_that_meets_the_scene_resonates_exactly():
             exact = (-t * mpmath.exp(-r * t) / (2 * r)
                      + (mpmath.exp(r * t) - mpmath.exp(-r * t)) / 8)
             assert abs(values[0, column] - exact) <= bounds[0, column]
+
+
+def test_poles_at_related_roots_go_to_the_numeric_route_with_a_clear_refusal():
+    """e^{−√2t} + e^{−√3t} + e^{−√6t}: over SymPy's expression domain the transforms would
+    not go over one denominator (a PolynomialError from deep in SymPy), and stand-ins for
+    √2, √3, √6 leave an irreducible cubic. The exact route refuses in words; "auto" solves
+    numerically, within its bounds of variation of parameters."""
+    M, C, K = [[1, 0], [0, 2]], [["1/5", 0], [0, 0]], [[3, -1], [-1, 1]]
+    scene = ls.Scene.from_matrices(M=M, C=C, K=K, x0=[1, 0], v0=[0, 0],
+                                   forcing=["exp(-sqrt(2)*t)+exp(-sqrt(3)*t)+exp(-sqrt(6)*t)", 0])
+    with pytest.raises(InversionError, match="could not put the inputs' transforms"):
+        ls.solve(scene, method="exact")
+    times = [0.5, 3.0, 20.0]
+    values, bounds = ls.solve(scene).evaluate(times, return_error=True)
+    q = mpmath.mpf
+    with mpmath.workdps(40):
+        rates = [(1, 0, -mpmath.sqrt(k)) for k in (2, 3, 6)]
+        exact = _driven_reference(M, [[q(1) / 5, 0], [0, 0]], K, [1, 0, 0, 0], 0, rates,
+                                  [q(t) for t in times])
+    for column, row in enumerate(exact):
+        for i in range(2):
+            assert abs(values[i, column] - row[i]) <= bounds[i, column]
