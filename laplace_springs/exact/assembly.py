@@ -627,23 +627,21 @@ def _pole_constants(denominators: list[sp.Expr], determinant: sp.Poly) -> tuple[
     the substitution and its inverse, or None (they stay in SymPy's expression domain).
 
     Powers of π stand as powers of one symbol for π, and powers of e (e, e² = exp(2),
-    e^{1/2}) as powers of one symbol for e^{1/L}; any other constant (√2, cos 1) as a symbol
-    of its own. Where they are powers of π alone or of e alone and Δ(λ) has rational or
-    symbolic coefficients, the partial fractions over ℚ(p), the parameters adjoined, hold
-    at p = g without a check: a transcendental number is a root of no nonzero polynomial
-    with algebraic coefficients (Lindemann 1882, Hermite 1873). Otherwise, with Δ(λ)
-    rational, they hold where the leading coefficients, the discriminants and the
-    resultants of the denominator's factors over ℚ[p₁, p₂, …] are nonzero at the
-    constants (:func:`_specializes`: √2 meets the stiffness 2 in a resonance, and
-    π² − e² is not known to be nonzero by any theorem); else None.
+    e^{1/2}) as powers of one symbol for e^{1/L}; any other constant (√2, cos 1) as a
+    symbol of its own, with the constant's sign. Δ(λ) must hold no constant (π in K and in
+    a pole would meet: resonance). Where the constants are powers of π alone or of e alone,
+    no condition of the partial fractions over ℚ(p), the parameters adjoined, can fail at
+    p = g: a transcendental number is a root of no nonzero polynomial with algebraic
+    coefficients (Lindemann 1882, Hermite 1873). Otherwise, with Δ(λ) rational, the
+    conditions are checked at the constants (:func:`_specializes`: √2 meets the stiffness
+    −2 in a resonance, and π² − e² ≠ 0 is known to no theorem).
     """
     domain = determinant.domain
     rational = domain.is_ZZ or domain.is_QQ
     ground = domain.domain if domain.is_PolynomialRing or domain.is_FractionField else domain
-    if not (ground.is_ZZ or ground.is_QQ):
+    if not (ground.is_ZZ or ground.is_QQ) or _constants(determinant.as_expr()):
         return None
-    atoms = {atom for den in denominators for atom in den.atoms(sp.Function, sp.Pow, sp.NumberSymbol)
-             if atom.is_number and not atom.is_Rational}
+    atoms = set().union(*(_constants(den) for den in denominators))
     if not atoms:
         return None
     powers = {atom: found for atom in atoms if (found := _as_power(atom)) is not None}
@@ -657,42 +655,57 @@ def _pole_constants(denominators: list[sp.Expr], determinant: sp.Poly) -> tuple[
         forward.update({atom: symbol ** int(exponent * L) for atom, exponent in group.items()})
         back[symbol] = base ** sp.Rational(1, L)
     for k, atom in enumerate(others):
-        symbol = sp.Dummy(f"q{k}", real=True)
+        symbol = sp.Dummy(f"q{k}", positive=True) if sp.N(atom, 30) > 0 \
+            else sp.Dummy(f"q{k}", negative=True)
         forward[atom], back[symbol] = symbol, atom
-    if len(back) == 1 and not others:
-        return forward, back
-    if not rational:
+    proven = len(back) == 1 and not others
+    if not (proven or rational):
         return None
     D = sp.Poly(sp.lcm_list([den.xreplace(forward) for den in denominators]), lam)
-    return (forward, back) if _specializes(determinant * D, back) else None
+    return (forward, back) if _specializes(D, determinant, back, numeric=not proven) else None
 
 
-def _specializes(denominator: sp.Poly, values: dict[sp.Symbol, sp.Expr]) -> bool:
-    """Whether partial fractions over ``denominator`` (coefficients in ℚ[p₁, p₂, …]) hold
-    at p = ``values``: its factors keep their degrees, stay squarefree and share no root
-    there (the leading coefficients, the discriminants and the pairwise resultants, the
-    only denominators of the residues, are nonzero at ``values``), and the factors with
-    stand-ins have closed-form roots (degree ≤ 2: the stand-ins for √2, √3 and √6 do not
-    know √2·√3 = √6, and (λ + √2)(λ + √3)(λ + √6) expanded is irreducible over them).
+def _constants(expr: sp.Expr) -> set[sp.Expr]:
+    """The numbers in ``expr`` that are not rational (π, π², exp(2), √2, cos 1)."""
+    return {atom for atom in expr.atoms(sp.Function, sp.Pow, sp.NumberSymbol)
+            if atom.is_number and not atom.is_Rational}
 
-    >>> p = sp.Dummy("q")
-    >>> _specializes(sp.Poly((lam**2 + 2) * (lam**2 + p**2), lam), {p: sp.sqrt(3)})
+
+def _specializes(D: sp.Poly, determinant: sp.Poly, values: dict[sp.Symbol, sp.Expr], *,
+                 numeric: bool = True) -> bool:
+    """Whether partial fractions over Δ·D, D's coefficients in ℚ[p₁, p₂, …], hold at
+    p = ``values`` as their terms are written: D's factors with stand-ins have degree ≤ 2
+    (closed-form roots: the stand-ins for √2, √3 and √6 do not know √2·√3 = √6, and
+    (λ + √2)(λ + √3)(λ + √6) expanded is irreducible over them), a quadratic's roots are
+    real or complex by the stand-ins' signs alone (e^{−2t}·sinh(√(4 − π)t): the sign of
+    4 − p is not), and, with ``numeric``, at the constants those factors keep their
+    degrees, stay squarefree and share no root with each other or with Δ (the leading
+    coefficients, discriminants and resultants, the only denominators of the residues,
+    are nonzero there).
+
+    >>> p = sp.Dummy("q", positive=True)
+    >>> one = sp.Poly(lam**2 + 2, lam)
+    >>> _specializes(sp.Poly(lam**2 + p**2, lam), one, {p: sp.sqrt(3)})
     True
-    >>> _specializes(sp.Poly((lam**2 + 2) * (lam**2 + p**2), lam), {p: sp.sqrt(2)})  # resonance
+    >>> _specializes(sp.Poly(lam**2 + p**2, lam), one, {p: sp.sqrt(2)})  # resonance
+    False
+    >>> _specializes(sp.Poly(lam**2 + 4*lam + p, lam), one, {p: sp.pi}, numeric=False)
     False
     """
     symbols = set(values)
-    _, factors = denominator.factor_list()
-    polys = [f for f, _ in factors if f.degree() > 0]
-    checks = [denominator.LC()]
+    _, factors = D.factor_list()
+    polys = [f for f, _ in factors if f.degree() > 0 and f.free_symbols & symbols]
+    checks = [D.LC()]
     for i, f in enumerate(polys):
-        own = bool(f.free_symbols & symbols)
-        if own and f.degree() > 2:  # a sum over its roots would need the numbers
+        if f.degree() > 2:
             return False
-        if own:
-            checks += [f.LC(), f.discriminant()] if f.degree() >= 2 else [f.LC()]
-        checks += [f.resultant(g) for g in polys[i + 1:] if own or g.free_symbols & symbols]
-    return all(_nonzero(sp.sympify(check), values) for check in checks)
+        if f.degree() == 2:
+            discriminant = f.discriminant()
+            if not (discriminant.is_positive or discriminant.is_negative):
+                return False
+            checks.append(discriminant)
+        checks += [f.LC(), f.resultant(determinant)] + [f.resultant(g) for g in polys[i + 1:]]
+    return not numeric or all(_nonzero(sp.sympify(check), values) for check in checks)
 
 
 def _nonzero(value: sp.Expr, values: dict[sp.Symbol, sp.Expr]) -> bool:
@@ -731,9 +744,13 @@ def _put_back(term: Term, back: dict) -> Term:
                if isinstance(getattr(term, name), sp.Basic)}
     if isinstance(term, RootSumTerm):
         changes["weights"] = tuple(w.xreplace(back) for w in term.weights)
-        numerator = term.group.numerator
-        changes["group"] = dataclasses.replace(
-            term.group, numerator=sp.Poly(numerator.as_expr().xreplace(back), *numerator.gens))
+        if term.factor.free_symbols & set(back):
+            changes["factor"] = sp.Poly(term.factor.as_expr().xreplace(back), *term.factor.gens)
+        group = term.group
+        changes["group"] = dataclasses.replace(group, **{
+            name: sp.Poly(poly.as_expr().xreplace(back), *poly.gens)
+            for name in ("numerator", "denominator", "factor")
+            if (poly := getattr(group, name)).free_symbols & set(back)})
     return dataclasses.replace(term, **changes)
 
 

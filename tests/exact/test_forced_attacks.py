@@ -276,3 +276,38 @@ def test_poles_at_related_roots_go_to_the_numeric_route_with_a_clear_refusal():
     for column, row in enumerate(exact):
         for i in range(2):
             assert abs(values[i, column] - row[i]) <= bounds[i, column]
+
+
+def test_stand_ins_keep_out_of_sign_decisions_resonances_with_the_scene_and_conditions():
+    """Three defects of a first version (found by an attack against variation of
+    parameters): (1) e^{−3t/2} sinh(√(9/4 − e/2) t) has the pole factor λ² + 3λ + p/2 whose
+    roots are real or complex by the value of p, not by its sign: taken as complex, the
+    values were wrong with bounds of 1e-16 while verify() passed; (2) π² in K beside
+    sin(πt) is a resonance that a symbol for the input's π hid (0/0); (3) a parameter
+    scene's sum over roots named the stand-in in its condition."""
+    q = mpmath.mpf
+    sinh = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[[1]], x0=[0], v0=[0],
+                                           forcing=["exp(-3*t/2)*sinh(sqrt(9/4 - E/2)*t)"]))
+    times = [0.5, 4.0, 30.0]
+    values, bounds = sinh.evaluate(times, return_error=True)
+    with mpmath.workdps(40):
+        a = mpmath.sqrt(q(9) / 4 - mpmath.e / 2)
+        exact = _driven_reference([[1]], [[0]], [[1]], [0, 0], 0,
+                                  [(q(1) / 2, 0, a - q(3) / 2), (-q(1) / 2, 0, -a - q(3) / 2)],
+                                  [q(t) for t in times])
+    for column, row in enumerate(exact):
+        assert abs(values[0, column] - row[0]) <= bounds[0, column]
+    resonant = ls.solve(ls.Scene.from_matrices(M=[[1]], K=[["pi**2"]], x0=[0], v0=[0],
+                                               forcing=["sin(pi*t)"]))
+    values = resonant.evaluate(times)
+    with mpmath.workdps(30):
+        pi = mpmath.pi
+        for column, t in enumerate(times):  # (sin ωt − ωt cos ωt)/(2ω²), ω = π
+            exact = (mpmath.sin(pi * t) - pi * t * mpmath.cos(pi * t)) / (2 * pi ** 2)
+            assert abs(values[0, column] - exact) < 1e-13 * max(1, abs(exact))
+    summed = ls.solve(ls.Scene.from_matrices(M=[[1, 0], [0, 2]], C=[["1/5", 0], [0, 0]],
+                                             K=[["k", -1], [-1, 1]], x0=[1, 0], v0=[0, 0],
+                                             forcing=["sin(pi*t)", 0], parameters=["k"]))
+    meanings = " ".join(c.meaning for c in summed.conditions)
+    assert "pi" in meanings and "_p" not in meanings
+    assert {symbol.name for symbol in summed.x.free_symbols} == {"k", "t"}
