@@ -655,7 +655,10 @@ def _pole_constants(denominators: list[sp.Expr], determinant: sp.Poly) -> tuple[
         forward.update({atom: symbol ** int(exponent * L) for atom, exponent in group.items()})
         back[symbol] = base ** sp.Rational(1, L)
     for k, atom in enumerate(others):
-        symbol = sp.Dummy(f"q{k}", positive=True) if sp.N(atom, 30) > 0 \
+        value = sp.N(atom, 30)
+        if not (value.is_positive or value.is_negative):  # not a real number: no stand-in
+            return None
+        symbol = sp.Dummy(f"q{k}", positive=True) if value.is_positive \
             else sp.Dummy(f"q{k}", negative=True)
         forward[atom], back[symbol] = symbol, atom
     proven = len(back) == 1 and not others
@@ -704,7 +707,8 @@ def _specializes(D: sp.Poly, determinant: sp.Poly, values: dict[sp.Symbol, sp.Ex
             if not (discriminant.is_positive or discriminant.is_negative):
                 return False
             checks.append(discriminant)
-        checks += [f.LC(), f.resultant(determinant)] + [f.resultant(g) for g in polys[i + 1:]]
+        if numeric:
+            checks += [f.LC(), f.resultant(determinant)] + [f.resultant(g) for g in polys[i + 1:]]
     return not numeric or all(_nonzero(sp.sympify(check), values) for check in checks)
 
 
