@@ -697,18 +697,21 @@ def _specializes(D: sp.Poly, determinant: sp.Poly, values: dict[sp.Symbol, sp.Ex
     """
     symbols = set(values)
     _, factors = D.factor_list()
-    polys = [f for f, _ in factors if f.degree() > 0 and f.free_symbols & symbols]
+    polys = [f for f, _ in factors if f.degree() > 0]
     checks = [D.LC()]
     for i, f in enumerate(polys):
-        if f.degree() > 2:
+        own = bool(f.free_symbols & symbols)
+        if own and f.degree() > 2:
             return False
-        if f.degree() == 2:
+        if own and f.degree() == 2:
             discriminant = f.discriminant()
             if not (discriminant.is_positive or discriminant.is_negative):
                 return False
             checks.append(discriminant)
-        if numeric:
-            checks += [f.LC(), f.resultant(determinant)] + [f.resultant(g) for g in polys[i + 1:]]
+        if numeric:  # every pair with a stand-in (e^{−√2t} beside sinh(√2t): λ + √2 | λ² − 2)
+            checks += [f.LC(), f.resultant(determinant)] if own else []
+            checks += [f.resultant(g) for g in polys[i + 1:]
+                       if own or g.free_symbols & symbols]
     return not numeric or all(_nonzero(sp.sympify(check), values) for check in checks)
 
 
