@@ -604,11 +604,7 @@ def _constants_as_symbols(numerators: list[sp.Expr], denominators: list[sp.Expr]
     >>> _constants_as_symbols([sp.sqrt(2)], [lam**2 + 2], sp.Poly(lam + 1, lam))[0]
     {sqrt(2): _c0}
     """
-    found: set[sp.Expr] = set()
-    for part in numerators:
-        for atom in part.atoms(sp.Function, sp.Pow, sp.NumberSymbol):
-            if atom.is_number and not atom.is_Rational and not atom.has(lam):
-                found.add(atom)
+    found = set().union(*(_constants(part) for part in numerators))
     # an atom inside another (√2 in cos(√2)) stays inside it
     found = {atom for atom in found if not any(atom != other and other.has(atom) for other in found)
              and not any(den.has(atom) for den in denominators)}
@@ -751,13 +747,16 @@ def _put_back(term: Term, back: dict) -> Term:
                if isinstance(getattr(term, name), sp.Basic)}
     if isinstance(term, RootSumTerm):
         changes["weights"] = tuple(w.xreplace(back) for w in term.weights)
-        if term.factor.free_symbols & set(back):
-            changes["factor"] = sp.Poly(term.factor.as_expr().xreplace(back), *term.factor.gens)
+        symbols = set(back)
+
+        def restored(poly: sp.Poly) -> sp.Poly:
+            return sp.Poly(poly.as_expr().xreplace(back), *poly.gens)
+        if term.factor.free_symbols & symbols:
+            changes["factor"] = restored(term.factor)
         group = term.group
         changes["group"] = dataclasses.replace(group, **{
-            name: sp.Poly(poly.as_expr().xreplace(back), *poly.gens)
-            for name in ("numerator", "denominator", "factor")
-            if (poly := getattr(group, name)).free_symbols & set(back)})
+            name: restored(poly) for name in ("numerator", "denominator", "factor")
+            if (poly := getattr(group, name)).free_symbols & symbols})
     return dataclasses.replace(term, **changes)
 
 
