@@ -61,12 +61,13 @@ import numpy as np
 from flint import fmpq, fmpq_mat
 
 from ..kernels.dd import U, two_prod
+from ..kernels.peaks import peak
 from ..limits import limits
 from ..model.errors import SceneError
 from ..model.scene import Scene
 from .first_order import rational_matrices, scene_cache
 from .times import Times, as_times  # noqa: F401  (doctests)
-from .tiny_blocks import BlockMotion, peak
+from .tiny_blocks import BlockMotion
 from .tiny_modes import classical_modes
 
 __all__ = ["TinyMotion", "TinyData", "tiny_refusal", "tiny_cost", "tiny_motion", "tiny_data"]
@@ -537,7 +538,7 @@ class _Scalar:
         [0, t_max], in float arithmetic: each branch's bound written as a sum of
         t^k·e^{rt} times constants (cosh and sinh(x)/x at their largest argument, min(t, 1/ω)
         by either side), each t^k·e^{rt} at its peak on [0, t_max]
-        (:func:`~laplace_springs.numeric.tiny_blocks.peak`: for a decaying motion, that of
+        (:func:`~laplace_springs.kernels.peaks.peak`: for a decaying motion, that of
         its worst time); inf where an exponential would overflow.
 
         >>> data = tiny_data(Scene.from_matrices(M=[[1]], C=[["1/10"]], K=[[4]], x0=[1], v0=[0]))

@@ -60,8 +60,11 @@ import numpy as np
 from flint import fmpq
 
 from ..kernels.dd import U
+from ..kernels.peaks import peak
+from ..limits import limits
+from .tiny_refined import Refined
 
-__all__ = ["BlockMotion", "peak"]
+__all__ = ["BlockMotion", "SWITCH_FRACTION"]
 
 #: Unit roundoff of the extended precision the residuals are formed in (2⁻⁶⁴ where
 #: ``numpy.longdouble`` is x87 80-bit; 2⁻⁵³ where it is float64, which only loosens the
@@ -87,6 +90,12 @@ _SUBSPACE_GAP = 1e3
 #: brought under the target had more than 3, and 25 of 32 more than 10. Below it the
 #: eigenvectors serve as well and cost less (no n x n eigenproblem besides).
 _MODAL_CONDITION = 10.0
+#: A decomposition without 2 x 2 blocks evaluates x by its refined eigenvalues and
+#: double-double phases (numeric/tiny_refined.py), whose bound does not grow like u·|w|·t,
+#: at the times beyond the last one where the float64 evaluation's bound (which grows like
+#: t·‖F‖) stays within this fraction of Limits.target·max|y₀|; earlier times keep the float64
+#: eigenvalues (fewer operations).
+SWITCH_FRACTION = 0.5
 #: Largest θ = ‖I − Y X‖ accepted (Y the computed inverse of the basis X).
 _MAX_THETA = 0.5
 #: Second-order terms the first-order rounding bounds neglect: bounds are multiplied by this.
@@ -142,27 +151,6 @@ def _svd(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     signature = "d->ddd" if P.dtype.kind == "f" else "D->DdD"
     u, s, vh = gufunc(P, signature=signature)
     return u, s, vh
-
-
-def peak(rate: float, power: int, T: float) -> float:
-    """max over t in [0, T] of t^power·e^{rate·t}, rounded up (inf beyond float64): at
-    t = power/|rate| for a decaying rate whose maximum is inside, else at T.
-
-    >>> round(peak(-2.0, 1, 10.0) * 2 * math.e, 12)   # at t = 1/2: (1/2)·e^{-1}
-    1.0
-    >>> peak(-2.0, 1, 0.25) == 0.25 * math.exp(-0.5) * (1 + 1e-14)   # at T
-    True
-    """
-    try:
-        if rate < 0 and power < -rate * T:  # the maximum is inside: (k/|r|)^k e^{−k}
-            top = power / -rate
-            value = top ** power * math.exp(-power)
-        else:
-            exponent = rate * T
-            value = T ** power * math.exp(exponent) if exponent < 709 else math.inf
-    except OverflowError:
-        return math.inf
-    return value * (1 + 1e-14)
 
 
 def _as_slice(columns: list[int], size: int) -> slice | np.ndarray:
@@ -532,6 +520,8 @@ class BlockMotion:
                    + U * R_norm)
         phi = (F_norm + gamma * Y_norm * R_norm + Y_norm * R_error
                + theta * inverse * (R_norm + R_error) + 2 * moved)
+        #: Y, θ and ‖X⁻¹‖ ≤ inverse, for the refined evaluation of long horizons
+        self._inverse: tuple[np.ndarray, float, float] = (Y, theta, Y_norm / (1 - theta))
         c_norm = math.hypot(*map(abs, coefficients))
         y0_norm = self.y0_norm
         # r₀ = X c − y₀ in extended precision; y₀ holds the exact data rounded once
@@ -565,19 +555,104 @@ class BlockMotion:
     def evaluate(self, t: np.ndarray, lo: np.ndarray | None,
                  order: int) -> tuple[np.ndarray, np.ndarray]:
         """Values and bounds at times t + lo (lo: the low parts, or None for zero): the
-        values are taken at t, the bounds cover the shift (|lo| ≤ u·t)."""
+        values are taken at t, the bounds cover the shift (|lo| ≤ u·t); x at the late times
+        of a decomposition without 2 x 2 blocks by its refined evaluation, at t + lo."""
         n = self.n
         if self.failure is not None:
             return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
         weights = self._order(order)
-        return self._values(weights, t), self._bounds(weights, t)
+        values, bounds = self._values(weights, t), self._bounds(weights, t)
+        late = self._late(t, order)
+        if late is not None:
+            refined, moved = self._refined, (None if lo is None else lo[late])
+            values[:, late] = refined.values(t[late], moved)
+            bounds[:, late] = refined.bounds(t[late])
+        return values, bounds
 
     def values(self, t: np.ndarray, lo: np.ndarray | None, order: int) -> np.ndarray:
         """The values of :meth:`evaluate` alone (zeros for a failed decomposition, whose
         :meth:`bound_until` is infinite)."""
         if self.failure is not None:
             return np.zeros((self.n, t.size))
-        return self._values(self._order(order), t)
+        values = self._values(self._order(order), t)
+        late = self._late(t, order)
+        if late is not None:
+            values[:, late] = self._refined.values(t[late], None if lo is None else lo[late])
+        return values
+
+    def _late(self, t: np.ndarray, order: int) -> np.ndarray | None:
+        """The times (a mask) the refined evaluation takes: x at the times beyond
+        :meth:`_switch_at` of a decomposition without 2 x 2 blocks; None when there is none.
+        A time's evaluation depends on that time alone."""
+        if order or not t.size:
+            return None
+        switch = self._switch_at(float(np.maximum.reduce(t)))
+        if switch is None:
+            return None
+        low, high = switch
+        late = t > low
+        for i in np.flatnonzero(late & (t < high)).tolist():  # between the bisection's ends
+            late[i] = self._plain_value(float(t[i])) > self._tolerance
+        return late if late.any() else None
+
+    def _switch_at(self, last: float) -> tuple[float, float] | None:
+        """The switch, a constant of the decomposition: a time t is late when the float64
+        evaluation's bound over [0, t] exceeds :attr:`_tolerance` (monotone in t).
+        Returns the bisection's ends (low, high): times up to low are early, from high on
+        late, between them each is asked; None when ``last`` is not late (known without
+        the bisection when the bound over [0, last] is within it) or the decomposition has
+        2 x 2 blocks."""
+        if self.failure is not None or self.doubles or not 0 < self.radius < math.inf:
+            return None
+        if last <= self._early or not last < math.inf:
+            return None
+        if self._plain_value(last) <= self._tolerance:
+            self._early = last
+            return None
+        return self._switch
+
+    #: A time known to be no later than the switch.
+    _early = 0.0
+
+    @cached_property
+    def _tolerance(self) -> float:
+        """SWITCH_FRACTION·Limits.target·max|y₀| (the scaled initial state (x0, v0/σ), a
+        stand-in for the contract's scale: any constant of the scene keeps each time's
+        evaluation independent of the others)."""
+        return SWITCH_FRACTION * limits().target * float(np.abs(self.y0).max(initial=0.0))
+
+    @cached_property
+    def _switch(self) -> tuple[float, float]:
+        """The ends (low, high) of :meth:`_switch_at`: 1/radius doubled while the bound
+        stays within the tolerance, then bisected ten times."""
+        within, tolerance = self._plain_value, self._tolerance
+        if not within(0.0) <= tolerance:
+            return -1.0, 0.0
+        low, high = 0.0, 1 / self.radius
+        while within(high) <= tolerance:
+            low, high = high, 2 * high
+            if not high < 1e300:
+                return math.inf, math.inf
+        for _ in range(10):
+            middle = (low + high) / 2
+            low, high = (middle, high) if within(middle) <= tolerance else (low, middle)
+        return low, high
+
+    def _plain_value(self, T: float) -> float:
+        """:meth:`_plain_until` with its rounding (inf for NaN), kept per T."""
+        cache = self.__dict__.setdefault("_plain_values", {})
+        if T not in cache:
+            if len(cache) > 64:  # (the bisection's and the latest requests' horizons)
+                cache.clear()
+            found = self._plain_until(T)
+            cache[T] = math.inf if math.isnan(found) else found * (1 + 1e-12)
+        return cache[T]
+
+    @cached_property
+    def _refined(self) -> Refined:
+        """The refined evaluation (:class:`~laplace_springs.numeric.tiny_refined.Refined`),
+        built when a late time is first asked for."""
+        return Refined(self, *self._inverse)
 
     def _values(self, weights: _Order, t: np.ndarray) -> np.ndarray:
         """Re Σ_j g_j e^{λ_j t} over the 1 x 1 blocks plus the 2 x 2 blocks' terms."""
@@ -610,8 +685,14 @@ class BlockMotion:
         """
         if self.failure is not None or not t_max < 1e300:
             return math.inf
-        found = self._blocks_until(t_max) if self.doubles else self._plain_until(t_max)
-        return math.inf if math.isnan(found) else found * (1 + 1e-12)  # the sum's rounding
+        if self.doubles:
+            found = self._blocks_until(t_max)
+            return math.inf if math.isnan(found) else found * (1 + 1e-12)  # the sum's rounding
+        switch = self._switch_at(t_max)
+        if switch is None:
+            return self._plain_value(t_max)
+        early = self._plain_value(min(switch[1], t_max)) if switch[1] > 0 else 0.0
+        return max(early, self._refined.bound_until(t_max))
 
     def _plain_until(self, T: float) -> float:
         """:meth:`bound_until` without 2 x 2 blocks: per coordinate i, Σ_k W_ik·(s_k·peak(r_k,
@@ -656,7 +737,11 @@ class BlockMotion:
 
     def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
         """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""
-        return self._bounds(self._order(order), t)
+        bounds = self._bounds(self._order(order), t)
+        late = self._late(t, order)
+        if late is not None:
+            bounds[:, late] = self._refined.bounds(t[late])
+        return bounds
 
     @staticmethod
     def _double(block: _Block, g_C: np.ndarray, g_S: np.ndarray, t: np.ndarray) -> np.ndarray:

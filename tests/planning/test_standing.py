@@ -113,12 +113,15 @@ def _reference(scene: ls.Scene, times, digits: int = 40) -> np.ndarray:
     return out
 
 
-@pytest.mark.parametrize("kw", [{"target": 1e-16}, {}])
-def test_times_the_tiny_bound_misses_are_escalated_as_planned(kw):
-    # an undamped pair far out: the tiny engine's bound grows like t and misses 1e-13
-    # there, and no tiny bound meets 1e-16; those times go to the certified or ball engine
-    scene = ls.Scene.from_matrices(M=[[1, 0], [0, 2]], K=[[3, -1], [-1, 1]], x0=[1, 0],
-                                   v0=[0, "1/3"])
+@pytest.mark.parametrize("K, kw", [([[3, -1], [-1, 1]], {"target": 1e-16}),
+                                   ([["100000001/100000000", "-1/100000000"],
+                                     ["-1/100000000", "100000001/100000000"]], {})])
+def test_times_the_tiny_bound_misses_are_escalated_as_planned(K, kw):
+    # undamped pairs far out: no tiny bound meets 1e-16; and two frequencies 1e-8 apart
+    # keep a bound that grows like t (the refined evaluation's coupling term) and misses
+    # 1e-13 there. Those times go to the certified or ball engine
+    M = [[1, 0], [0, 2]] if kw else [[1, 0], [0, 1]]
+    scene = ls.Scene.from_matrices(M=M, K=K, x0=[1, 0], v0=[0, "1/3"])
     sol = ls.solve(scene)
     assert sol._standing
     times = np.array([0.5, 2.0, 3e3, 2e4])
