@@ -562,11 +562,11 @@ class BlockMotion:
             return np.zeros((n, t.size)), np.full((n, t.size), np.inf)
         weights = self._order(order)
         values, bounds = self._values(weights, t), self._bounds(weights, t)
-        late = self._late(t, order)
+        late = self._late(t)
         if late is not None:
             refined, moved = self._refined, (None if lo is None else lo[late])
-            values[:, late] = refined.values(t[late], moved)
-            bounds[:, late] = refined.bounds(t[late])
+            values[:, late] = refined.values(t[late], moved, order)
+            bounds[:, late] = refined.bounds(t[late], order)
         return values, bounds
 
     def values(self, t: np.ndarray, lo: np.ndarray | None, order: int) -> np.ndarray:
@@ -575,16 +575,17 @@ class BlockMotion:
         if self.failure is not None:
             return np.zeros((self.n, t.size))
         values = self._values(self._order(order), t)
-        late = self._late(t, order)
+        late = self._late(t)
         if late is not None:
-            values[:, late] = self._refined.values(t[late], None if lo is None else lo[late])
+            values[:, late] = self._refined.values(t[late], None if lo is None else lo[late],
+                                                   order)
         return values
 
-    def _late(self, t: np.ndarray, order: int) -> np.ndarray | None:
-        """The times (a mask) the refined evaluation takes: x at the times beyond
-        :meth:`_switch_at` of a decomposition without 2 x 2 blocks; None when there is none.
-        A time's evaluation depends on that time alone."""
-        if order or not t.size:
+    def _late(self, t: np.ndarray) -> np.ndarray | None:
+        """The times (a mask) the refined evaluation takes (for x and its derivatives):
+        the times beyond :meth:`_switch_at` of a decomposition without 2 x 2 blocks; None
+        when there is none. A time's evaluation depends on that time alone."""
+        if not t.size:
             return None
         switch = self._switch_at(float(np.maximum.reduce(t)))
         if switch is None:
@@ -738,9 +739,9 @@ class BlockMotion:
     def bounds(self, t: np.ndarray, order: int) -> np.ndarray:
         """The bounds of :meth:`evaluate` at the float64 times ``t`` (no values formed)."""
         bounds = self._bounds(self._order(order), t)
-        late = self._late(t, order)
+        late = self._late(t)
         if late is not None:
-            bounds[:, late] = self._refined.bounds(t[late])
+            bounds[:, late] = self._refined.bounds(t[late], order)
         return bounds
 
     @staticmethod

@@ -141,23 +141,22 @@ class Refined:
         with np.errstate(divide="ignore"):
             reach = np.where(gaps > 0, 2 / np.where(gaps > 0, gaps, 1.0), np.inf)
         reach.flat[::size + 1] = np.inf
-        L_abs = np.abs(X[:n])
-        c_abs = np.abs(motion.c) + motion.rho0
-        # K_i,(jk) = |L_ij|·bound_jk·(|c_k| + ρ₀), with the reach h_jk of each (j, k)
-        terms = L_abs[:, :, None] * (bounded * c_abs[None, :])[None, :, :]
         self.reach = reach.ravel()
-        self.terms = terms.reshape(n, size * size) * (1 + 4 * U)
-        self.phi = phi = math.sqrt(float(np.vdot(bounded, bounded).real))
-        rows = np.sqrt((L_abs * L_abs).sum(axis=1)) * (1 + 4 * U)
-        self.second = rows * (phi * phi / 2 * (motion.c_norm + motion.rho0))
-        self.start = rows * motion.rho0
-        weights = motion._order(0)
-        self.weights, self.size = weights.g, weights.single_size
+        self.phi = math.sqrt(float(np.vdot(bounded, bounded).real))
+        self._motion, self._bounded, self._delta_abs = motion, bounded, d_abs
         self.unit = (2 * n + 20) * U
         self.slope = 8 * U * U * self.speed + 4 * U * self.d_max
+        self._orders: dict[int, _Rows] = {}
 
-    def values(self, t: np.ndarray, lo: np.ndarray | None) -> np.ndarray:
-        """Re Σ_j g_j e^{w'_j t} at times t (+ lo), the phases in double-double."""
+    def _rows(self, order: int) -> _Rows:
+        """The constants of derivative ``order``'s bound (built on first use)."""
+        if order not in self._orders:
+            self._orders[order] = _Rows(self, self._motion, order)
+        return self._orders[order]
+
+    def values(self, t: np.ndarray, lo: np.ndarray | None, order: int = 0) -> np.ndarray:
+        """Re Σ_j g_j e^{w'_j t} at times t (+ lo), the phases in double-double (g_j the
+        weights of x, x' or x'')."""
         a, b = self.rates.real[:, None], self.rates.imag[:, None]
         da, db = self.shifts.real[:, None], self.shifts.imag[:, None]
         t_lo = 0.0 if lo is None else lo
@@ -166,20 +165,22 @@ class Refined:
             decay = np.exp(p) * np.exp(e + (da * t + a * t_lo))
             cos, sin, _ = phase(b, db, t, t_lo)
             factor = decay * cos + 1j * (decay * sin)
-            terms = (self.weights[:, :, None] * factor[None, :, :]).real
+            terms = (self._rows(order).weights[:, :, None] * factor[None, :, :]).real
         values: np.ndarray = np.add.reduce(terms, axis=1)
         return values
 
-    def bounds(self, t: np.ndarray) -> np.ndarray:
+    def bounds(self, t: np.ndarray, order: int = 0) -> np.ndarray:
         """The bounds of :meth:`values` at times t (inf where the split could overflow)."""
-        g = self.growth
+        g, rows = self.growth, self._rows(order)
         with np.errstate(over="ignore", invalid="ignore"):
             grow = np.exp(g * t)
-            first = columns_product(self.terms, np.minimum(t[None, :], self.reach[:, None]))
-            second = self.second[:, None] * (t * t * np.exp((g + self.phi) * t))
-            rounding = self.size[:, None] * (self.unit + self.slope * t)
-            bounds = (grow * (first + rounding) + self.start[:, None] * grow + second) * _SAFETY
-            bounds += self.size[:, None] * (1e-300 * (1 + t))
+            spread = np.exp((g + self.phi) * t)
+            first = columns_product(rows.terms, np.minimum(t[None, :], self.reach[:, None]))
+            second = rows.second[:, None] * (t * t * spread)
+            rounding = rows.size[:, None] * (self.unit + self.slope * t)
+            bounds = (grow * (first + rounding + (rows.start + rows.moved)[:, None]) + second
+                      + rows.direct[:, None] * spread) * _SAFETY
+            bounds += rows.size[:, None] * (1e-300 * (1 + t))
         unsafe = ~(t * (1 + self.speed) < _SPLIT_SAFE)
         if unsafe.any():
             bounds[:, unsafe] = np.inf
@@ -194,8 +195,41 @@ class Refined:
         second = peak(g + self.phi, 2, T)
         if not all(map(math.isfinite, (P0, P1, second))):
             return math.inf
-        first = self.terms @ np.minimum(P1, self.reach * P0)
-        found = (first + self.size * (self.unit * P0 + self.slope * P1) + self.start * P0
-                 + self.second * second) * _SAFETY + self.size * 1e-300 * (1 + T)
+        rows = self._rows(0)
+        first = rows.terms @ np.minimum(P1, self.reach * P0)
+        found = (first + rows.size * (self.unit * P0 + self.slope * P1) + rows.start * P0
+                 + rows.second * second) * _SAFETY + rows.size * 1e-300 * (1 + T)
         largest = float(found.max(initial=0.0))
         return math.inf if math.isnan(largest) else largest * (1 + 1e-12)
+
+
+class _Rows:
+    """The constants of one derivative order's bound: with L the rows that give x^(k) from
+    the exact motion (X's position rows; σ times its velocity rows; those times B' =
+    diag(w + δ) for x''), ``terms`` K_i,(jk) = |L_ij|·|F'_jk|·(|c_k| + ρ₀), ``second``
+    ‖L_i‖φ'²/2·(‖c‖ + ρ₀), ``start`` ‖L_i‖ρ₀, ``size`` Σ_j|g_ij| of the evaluated weights
+    g; for x'' also ``direct`` ‖σX_v,i‖φ'(‖c‖ + ρ₀) (the term σX_v F'e^{(B'+F')t}c*, at
+    most that times e^{(g+φ')t}) and ``moved`` Σ_j σ|X_v,ij||δ_j||c_j| (the weights are
+    formed with w, the motion's exponents are w + δ)."""
+
+    def __init__(self, refined: Refined, motion: Any, order: int) -> None:
+        n, X, sigma = motion.n, motion.X, motion.sigma
+        size = X.shape[0]
+        L_abs = np.abs(X[:n]) if order == 0 else sigma * np.abs(X[n:])
+        zeros = np.zeros(n)
+        self.direct, self.moved = zeros, zeros
+        c_norm = motion.c_norm + motion.rho0
+        if order == 2:
+            self.direct = np.sqrt((L_abs * L_abs).sum(axis=1)) * (refined.phi * c_norm) \
+                * (1 + 4 * U)
+            self.moved = L_abs @ (refined._delta_abs * np.abs(motion.c)) * (1 + 4 * U)
+            L_abs = L_abs * (np.abs(motion.poles) + refined._delta_abs)[None, :]
+        L_abs = L_abs * (1 + 4 * U)
+        c_abs = np.abs(motion.c) + motion.rho0
+        terms = L_abs[:, :, None] * (refined._bounded * c_abs[None, :])[None, :, :]
+        self.terms = terms.reshape(n, size * size) * (1 + 4 * U)
+        rows = np.sqrt((L_abs * L_abs).sum(axis=1)) * (1 + 4 * U)
+        self.second = rows * (refined.phi * refined.phi / 2 * c_norm)
+        self.start = rows * motion.rho0
+        weights = motion._order(order)
+        self.weights, self.size = weights.g, weights.single_size

@@ -11,6 +11,8 @@ engine).
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import mpmath
 import numpy as np
 import pytest
@@ -23,16 +25,20 @@ from laplace_springs.numeric.tiny import tiny_motion
 TARGET = 1e-13
 
 
-def _chain_reference(eps: str, times: list) -> list[list]:
-    """x of x'' + εx' + [[2, −1], [−1, 2]]x = 0, x(0) = (1, 0), x'(0) = 0: the modes
-    (1, 1)/√2 and (1, −1)/√2 with ω² = 1 and 3, each q = e^{−εt/2}(cos ω_d t +
-    ε/(2ω_d) sin ω_d t), ω_d = √(ω² − ε²/4)."""
+def _chain_reference(eps: str, times: list, order: int = 0) -> list[list]:
+    """x^(order) of x'' + εx' + [[2, −1], [−1, 2]]x = 0, x(0) = (1, 0), x'(0) = 0: the
+    modes (1, 1)/√2 and (1, −1)/√2 with ω² = 1 and 3, each q = e^{−εt/2}(cos ω_d t +
+    ε/(2ω_d) sin ω_d t), ω_d = √(ω² − ε²/4); q' = −(ω²/ω_d)e^{−εt/2} sin ω_d t and
+    q'' = −εq' − ω²q (the textbook forms)."""
     with mpmath.workdps(40):
-        e = mpmath.mpf(eps) if "/" not in eps else mpmath.mpf(eps.split("/", maxsplit=1)[0]) / int(eps.split("/")[1])
+        e = mpmath.mpf(Fraction(eps).numerator) / Fraction(eps).denominator
 
         def q(omega2: int, t: mpmath.mpf) -> mpmath.mpf:
             wd = mpmath.sqrt(omega2 - e * e / 4)
-            return mpmath.exp(-e * t / 2) * (mpmath.cos(wd * t) + e / (2 * wd) * mpmath.sin(wd * t))
+            decay = mpmath.exp(-e * t / 2)
+            value = decay * (mpmath.cos(wd * t) + e / (2 * wd) * mpmath.sin(wd * t))
+            slope = -omega2 / wd * decay * mpmath.sin(wd * t)
+            return (value, slope, -e * slope - omega2 * value)[order]
 
         rows: list[list] = [[], []]
         for time in times:
@@ -61,6 +67,18 @@ def test_light_damping_chain_over_long_horizons(eps: str) -> None:
     values, bounds, report = sol.evaluate(times, return_error=True, return_report=True)
     assert set(report.engines) == {"tiny"}
     _check(values, bounds, _chain_reference(eps, times), sol._floor(0))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_derivatives_over_long_horizons(order: int) -> None:
+    scene = Scene.from_matrices(M=[[1, 0], [0, 1]], C=[["1/1000000", 0], [0, "1/1000000"]],
+                                K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 0])
+    times = [0.0, 3.0, 1234.5, 10_000.0, 54_321.0]
+    sol = solve(scene)
+    values, bounds, report = sol.evaluate(times, return_error=True, return_report=True,
+                                          derivative=order)
+    assert set(report.engines) == {"tiny"}
+    _check(values, bounds, _chain_reference("1/1000000", times, order), sol._floor(order))
 
 
 def test_decimal_times_keep_their_low_parts() -> None:
