@@ -162,6 +162,10 @@ def _as_slice(columns: list[int], size: int) -> slice | np.ndarray:
     return np.array(columns, dtype=np.intp)
 
 
+#: Integers up to this size are float64 numbers (beyond it an integer entry, say 10⁴⁰, is
+#: rounded and gets a low part like any fraction).
+_EXACT_INTEGER = 2**53
+
 _EYES: dict[int, np.ndarray] = {}
 
 
@@ -200,7 +204,7 @@ def _first_order(n: int, A: dict[tuple[int, int], Any], B: dict[tuple[int, int],
     for place, value, rounded, factor in zip(places, exact, high, factors):
         entry = hi[place] = rounded * factor
         squares += entry * entry
-        if value.q != 1:
+        if value.q != 1 or not -_EXACT_INTEGER <= value.p <= _EXACT_INTEGER:
             low = value - fmpq(*rounded.as_integer_ratio())
             if low:
                 lo = lo or [0.0] * (size * size)
