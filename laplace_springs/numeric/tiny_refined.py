@@ -162,7 +162,10 @@ class Refined:
         t_lo = 0.0 if lo is None else lo
         with np.errstate(over="ignore", invalid="ignore", under="ignore"):
             p, e = two_prod(a, t)
-            decay = np.exp(p) * np.exp(e + (da * t + a * t_lo))
+            # the exponent p + e' renormalized to s + r (|r| ≤ u|s|): below −745, e^s is 0
+            # and so is the motion's (e^{s+r} ≤ e^{s(1−u)}), whatever e^r would overflow to
+            s, r = two_sum(p, e + (da * t + a * t_lo))
+            decay = np.exp(s) * np.exp(np.where(s < -745.0, 0.0, r))
             cos, sin, _ = phase(b, db, t, t_lo)
             factor = decay * cos + 1j * (decay * sin)
             terms = (self._rows(order).weights[:, :, None] * factor[None, :, :]).real

@@ -160,3 +160,18 @@ def test_integer_entries_beyond_two_to_the_53_are_held_exactly() -> None:
                                                              * mpmath.mpf(t)) for j in range(2))
                 error = abs(float(exact - mpmath.mpf(values[i, col])))
                 assert error <= bounds[i, col], (t, i, error, bounds[i, col])
+
+
+def test_far_times_of_a_damped_scene_are_zero_with_a_bound() -> None:
+    """At t = 10²⁴ the exponent a·t ≈ −10²², held as p + e with |e| up to u|p| ≈ 10⁶:
+    e^p·e^e was 0·inf = NaN (an infinite bound, escalated, beyond what ``bound_until``
+    promised). The motion has decayed far below float64's range: 0, within the bound's
+    floor 1e-300·(1 + t)."""
+    scene = Scene.from_matrices(M=[[1, 0], [0, 1]], C=[["1/10", 0], [0, 0]],
+                                K=[[2, -1], [-1, 2]], x0=[1, 0], v0=[0, 1])
+    motion = tiny_motion(scene)
+    times = [1e20, 3.3e22, 1e24]
+    values, bounds = motion.evaluate(as_times(times), 0)
+    assert np.all(values == 0)
+    assert np.all(bounds <= 1e-300 * (1 + np.array(times)) * 10)
+    assert np.all(bounds <= motion.bound_until(1e24))
