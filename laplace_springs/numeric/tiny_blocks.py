@@ -93,9 +93,12 @@ _MODAL_CONDITION = 10.0
 #: A decomposition without 2 x 2 blocks evaluates x by its refined eigenvalues and
 #: double-double phases (numeric/tiny_refined.py), whose bound does not grow like u·|w|·t,
 #: at the times beyond the last one where the float64 evaluation's bound (which grows like
-#: t·‖F‖) stays within this fraction of Limits.target·max|y₀|; earlier times keep the float64
-#: eigenvalues (fewer operations).
-SWITCH_FRACTION = 0.5
+#: t·‖F‖) stays within this fraction of Limits.target·max(‖x0‖∞, ‖v0‖∞/ρ); earlier times
+#: keep the float64 eigenvalues (fewer operations; building the refined evaluation costs
+#: about 0.6 ms on a first call). At 0.5 (of max|y₀|) the 3- and 4-mass chains of
+#: benchmarks/bench_tiny.py switched at t ≈ 5.8 with float64 bounds of 4e-14 of S₀ and
+#: took 2.1x control's time instead of 0.9x.
+SWITCH_FRACTION = 1.0
 #: Largest θ = ‖I − Y X‖ accepted (Y the computed inverse of the basis X).
 _MAX_THETA = 0.5
 #: Second-order terms the first-order rounding bounds neglect: bounds are multiplied by this.
@@ -295,7 +298,11 @@ class BlockMotion:
         self.basis = "eigenvectors"
         self._square: np.ndarray | None = None  # Z², for the pairs of 2 x 2 blocks
         self.sigma, self.Z, self.Z_lo, self.Z_norm = _first_order(n, A, B, floats)
-        start = [*x0.tolist(), *[v / self.sigma for v in v0.tolist()]]
+        x0_list, v0_list = x0.tolist(), v0.tolist()
+        #: max |x0| and max |v0| (the scale of the refined evaluation's switch)
+        self.initial_sizes = (max(map(abs, x0_list), default=0.0),
+                              max(map(abs, v0_list), default=0.0))
+        start = [*x0_list, *[v / self.sigma for v in v0_list]]
         self.y0, self.y0_norm = np.array(start), math.hypot(*start)
         w, V = _eig(self.Z)
         if not self._set_poles(w):
@@ -621,10 +628,12 @@ class BlockMotion:
 
     @cached_property
     def _tolerance(self) -> float:
-        """SWITCH_FRACTION·Limits.target·max|y₀| (the scaled initial state (x0, v0/σ), a
-        stand-in for the contract's scale: any constant of the scene keeps each time's
-        evaluation independent of the others)."""
-        return SWITCH_FRACTION * limits().target * float(np.abs(self.y0).max(initial=0.0))
+        """SWITCH_FRACTION·Limits.target·max(max|x0|, max|v0|/ρ): at most the target times
+        the contract's scale S₀ = ‖x0‖∞ + ‖v0‖∞/ρ and at least half of it, so the switch
+        comes before the float64 bound misses the target and not much earlier (any
+        constant of the scene keeps each time's evaluation independent of the others)."""
+        x0_size, v0_size = self.initial_sizes
+        return SWITCH_FRACTION * limits().target * max(x0_size, v0_size / self.radius)
 
     @cached_property
     def _switch(self) -> tuple[float, float]:
