@@ -9,8 +9,8 @@ float64 eigenvalues w of B, so its bound grows like t·‖F‖ (F = X⁻¹(ZX �
 u·|w|) and like u·|w|·t (the rounding of w·t): near 1e-12 of the scale at |w|t = 10⁴,
 so an undamped or lightly damped scene's late times went to the certified engine (about
 ten times slower). Here, at the times beyond the last one where that bound stays within
-half the target (``tiny_blocks.SWITCH_FRACTION``; a constant of the scene, so a time's
-value does not depend on the others):
+the target of max(‖x0‖∞, ‖v0‖∞/ρ) (``tiny_blocks.SWITCH_FRACTION``; a constant of the
+scene, so a time's value does not depend on the others):
 
 * **Refined eigenvalues.** R = ZX − XB is formed again with every product exact
   (Dekker) and the sums compensated, so it is good to about u² of its terms; then
